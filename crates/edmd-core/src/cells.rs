@@ -1,0 +1,162 @@
+//! Cell list: a grid of cells no smaller than the largest particle diameter, with intrusive doubly
+//! linked member lists, so moving a particle between cells is O(1).
+//!
+//! Membership changes only through cell-crossing events; a particle's cell is authoritative even when
+//! its lazily advanced position sits on the far side of a face by round-off.
+
+use crate::error::AXIS_NAMES;
+use crate::{EdmdError, Vector};
+
+/// Marks the end of a list.
+pub const NONE: u32 = u32::MAX;
+
+/// Uniform grid of cells covering the box.
+#[derive(Debug, Clone)]
+pub struct CellGrid<const D: usize> {
+    /// Cells per axis (at least 3).
+    pub n: [usize; D],
+    /// Cell side per axis.
+    pub side: [f64; D],
+    /// Linear-index stride per axis.
+    pub stride: [usize; D],
+    head: Vec<u32>,
+    next: Vec<u32>,
+    prev: Vec<u32>,
+}
+
+impl<const D: usize> CellGrid<D> {
+    /// A grid over a box `box_len` for `particles` particles, with cells of side at least `min_side`
+    /// (close to `target_side` when that is larger).
+    pub fn new(box_len: &Vector<D>, min_side: f64, target_side: f64, particles: usize) -> Result<Self, EdmdError> {
+        let mut n = [0usize; D];
+        let mut side = [0.0; D];
+        let mut stride = [0usize; D];
+        let want = target_side.max(min_side);
+        let mut total = 1usize;
+        for a in 0..D {
+            let len = box_len[a];
+            let max_cells = (len / min_side).floor();
+            if !(max_cells >= 3.0) {
+                return Err(EdmdError::BoxTooSmall { axis: AXIS_NAMES[a], len, cell: min_side });
+            }
+            let cells = ((len / want).floor().max(3.0)).min(max_cells).min(1e7) as usize;
+            n[a] = cells;
+            side[a] = len / cells as f64;
+            stride[a] = total;
+            total = total.checked_mul(cells).filter(|&t| t < u32::MAX as usize).ok_or_else(|| {
+                EdmdError::invalid("cell count", total as f64 * cells as f64, "too many cells; use a denser box")
+            })?;
+        }
+        Ok(CellGrid { n, side, stride, head: vec![NONE; total], next: vec![NONE; particles], prev: vec![NONE; particles] })
+    }
+
+    /// Number of cells.
+    pub fn len(&self) -> usize {
+        self.head.len()
+    }
+
+    /// True if the grid has no cells (never, for a valid grid).
+    pub fn is_empty(&self) -> bool {
+        self.head.is_empty()
+    }
+
+    /// Cell coordinates of a position inside the box (clamped to the grid).
+    pub fn coords_of(&self, pos: &Vector<D>) -> [u32; D] {
+        let mut c = [0u32; D];
+        for a in 0..D {
+            let x = (pos[a] / self.side[a]).floor();
+            c[a] = x.clamp(0.0, (self.n[a] - 1) as f64) as u32;
+        }
+        c
+    }
+
+    /// Linear index of cell coordinates.
+    #[inline(always)]
+    pub fn index(&self, c: &[u32; D]) -> usize {
+        let mut idx = 0;
+        for a in 0..D {
+            idx += c[a] as usize * self.stride[a];
+        }
+        idx
+    }
+
+    /// First member of cell `idx`, or [`NONE`].
+    #[inline(always)]
+    pub fn first(&self, idx: usize) -> u32 {
+        self.head[idx]
+    }
+
+    /// Member after `i` in its cell, or [`NONE`].
+    #[inline(always)]
+    pub fn next(&self, i: u32) -> u32 {
+        self.next[i as usize]
+    }
+
+    /// Adds particle `i` to cell `idx`.
+    #[inline]
+    pub fn insert(&mut self, i: u32, idx: usize) {
+        let h = self.head[idx];
+        self.next[i as usize] = h;
+        self.prev[i as usize] = NONE;
+        if h != NONE {
+            self.prev[h as usize] = i;
+        }
+        self.head[idx] = i;
+    }
+
+    /// Removes particle `i` from cell `idx` (which must hold it).
+    #[inline]
+    pub fn remove(&mut self, i: u32, idx: usize) {
+        let (n, p) = (self.next[i as usize], self.prev[i as usize]);
+        if p == NONE {
+            debug_assert_eq!(self.head[idx], i);
+            self.head[idx] = n;
+        } else {
+            self.next[p as usize] = n;
+        }
+        if n != NONE {
+            self.prev[n as usize] = p;
+        }
+    }
+
+    /// Heap bytes held by the grid.
+    pub fn heap_bytes(&self) -> usize {
+        4 * (self.head.capacity() + self.next.capacity() + self.prev.capacity())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::vector;
+
+    #[test]
+    fn small_boxes_are_rejected_by_name() {
+        let e = CellGrid::<2>::new(&vector![2.9, 10.0], 1.0, 1.0, 4).unwrap_err();
+        assert!(e.to_string().contains("Lx = 2.9"), "{e}");
+        assert!(CellGrid::<2>::new(&vector![3.0, 3.0], 1.0, 1.0, 4).is_ok());
+    }
+
+    #[test]
+    fn cells_are_never_smaller_than_the_diameter() {
+        let g = CellGrid::<3>::new(&vector![10.5, 7.0, 3.2], 1.0, 0.5, 1).unwrap();
+        assert_eq!(g.n, [10, 7, 3]);
+        assert!(g.side.iter().all(|&s| s >= 1.0));
+    }
+
+    #[test]
+    fn insert_and_remove_keep_lists_consistent() {
+        let mut g = CellGrid::<2>::new(&vector![4.0, 4.0], 1.0, 1.0, 3).unwrap();
+        for i in 0..3 {
+            g.insert(i, 5);
+        }
+        g.remove(1, 5);
+        let mut members = vec![];
+        let mut k = g.first(5);
+        while k != NONE {
+            members.push(k);
+            k = g.next(k);
+        }
+        assert_eq!(members, vec![2, 0]);
+    }
+}

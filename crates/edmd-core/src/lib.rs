@@ -1,0 +1,51 @@
+//! # edmd-core
+//!
+//! An event-driven molecular dynamics (EDMD) engine for smooth hard disks (`D = 2`) and spheres
+//! (`D = 3`), written once for both dimensions with `nalgebra::SVector<f64, D>`.
+//!
+//! * **Events**: pair collisions, cell crossings and wall contacts; one pending event per particle,
+//!   stale events detected by per-particle collision counters ([`sim`]).
+//! * **Calendar**: O(1) amortised bucket queue after G. Paul, J. Comput. Phys. 221, 615 (2007)
+//!   ([`PaulCalendar`]); a `BinaryHeap` version ([`HeapCalendar`]) is the oracle and baseline.
+//! * **Cells**: a grid with side ≥ the largest diameter; a crossing searches only the newly adjacent
+//!   cells ([`CellGrid`]).
+//! * **Scenes**: periodic, walled, or mixed per axis, each a zero-sized type ([`Boundary`]).
+//! * **Numerics**: cancellation-free contact roots, no event ever in the past, overlapping-and-
+//!   approaching pairs collide at once, and the clock is rebased every few N events.
+//!
+//! Units: lengths in the user's units (σ = 1 by default), masses per particle, `T = m⟨v²⟩/d`,
+//! τ = C/N pair collisions per particle. No I/O, no threads.
+//!
+//! ```
+//! use edmd_core::{ConstantRestitution, InitParams, Periodic, Stop};
+//! let params = InitParams::<2>::with_packing(1000, 0.25).unwrap();
+//! let mut sim = params.build::<Periodic, _>(ConstantRestitution::new(0.9).unwrap()).unwrap();
+//! sim.run(Stop::Tau(5.0));
+//! assert!(sim.temperature() < 1.0);
+//! ```
+#![warn(missing_docs)]
+
+pub mod boundary;
+pub mod calendar;
+pub mod cells;
+pub mod collide;
+pub mod error;
+pub mod init;
+pub mod observe;
+pub mod predict;
+pub mod sim;
+pub mod state;
+pub mod theory;
+
+/// A D-dimensional `f64` vector.
+pub type Vector<const D: usize> = nalgebra::SVector<f64, D>;
+
+pub use boundary::{Axes, Boundary, Channel, Periodic, Walls};
+pub use calendar::{Calendar, HeapCalendar, PaulCalendar};
+pub use cells::CellGrid;
+pub use collide::{CollisionRule, ConstantRestitution, Elastic};
+pub use error::EdmdError;
+pub use init::{InitParams, Placement, Velocities};
+pub use observe::{Observables, Schedule, VirialMeter, VirialReading};
+pub use sim::{Counters, EventKind, RunEnd, SimParams, Simulation, Stop};
+pub use state::{Particle, ParticleInit};

@@ -1,0 +1,209 @@
+//! Observables and the sampling schedule.
+//!
+//! Temperature is `T = m⟨v²⟩/d` (the variance of one velocity component for unit mass). The pressure
+//! comes from the collision virial: `p V = N T + (1/(d Δt)) Σ r_ij·Δp_i`, so the compressibility
+//! factor is `Z = 1 + Σ r_ij·Δp_i / (d N T Δt)`; for elastic hard disks `Z = 1 + 2φχ`
+//! (spheres: `1 + 4φχ`).
+
+use crate::calendar::Calendar;
+use crate::{Boundary, CollisionRule, Simulation, Vector};
+
+/// A snapshot of the bulk observables.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Observables<const D: usize> {
+    /// Physical time.
+    pub time: f64,
+    /// Pair collisions per particle, C/N.
+    pub tau: f64,
+    /// Pair collisions C.
+    pub pair_collisions: u64,
+    /// Wall collisions.
+    pub wall_collisions: u64,
+    /// Total kinetic energy Σ m v²/2.
+    pub kinetic_energy: f64,
+    /// Granular temperature m⟨v²⟩/d.
+    pub temperature: f64,
+    /// Total momentum.
+    pub momentum: Vector<D>,
+    /// Σ m|v|, the scale against which momentum conservation is judged.
+    pub momentum_scale: f64,
+    /// Speed kurtosis ⟨v⁴⟩/⟨v²⟩² (2 for a 2D Maxwellian, 5/3 in 3D).
+    pub kurtosis: f64,
+}
+
+impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B, R, C> {
+    /// Total kinetic energy.
+    pub fn kinetic_energy(&self) -> f64 {
+        self.particles.iter().zip(&self.mass).map(|(p, m)| 0.5 * m * p.vel.norm_squared()).sum()
+    }
+
+    /// Granular temperature `T = Σ m v² / (d N)`.
+    pub fn temperature(&self) -> f64 {
+        2.0 * self.kinetic_energy() / (D as f64 * self.len() as f64)
+    }
+
+    /// All bulk observables at the current time.
+    pub fn observe(&self) -> Observables<D> {
+        let mut momentum = Vector::<D>::zeros();
+        let (mut scale, mut ke, mut v2, mut v4) = (0.0, 0.0, 0.0, 0.0);
+        for (p, &m) in self.particles.iter().zip(&self.mass) {
+            let s2 = p.vel.norm_squared();
+            momentum += p.vel * m;
+            scale += m * s2.sqrt();
+            ke += 0.5 * m * s2;
+            v2 += s2;
+            v4 += s2 * s2;
+        }
+        let n = self.len() as f64;
+        Observables {
+            time: self.time(),
+            tau: self.tau(),
+            pair_collisions: self.counters.pair_collisions,
+            wall_collisions: self.counters.wall_collisions,
+            kinetic_energy: ke,
+            temperature: 2.0 * ke / (D as f64 * n),
+            momentum,
+            momentum_scale: scale,
+            kurtosis: if v2 > 0.0 { (v4 / n) / (v2 / n).powi(2) } else { f64::NAN },
+        }
+    }
+}
+
+/// Measures pressure and collision frequency over an interval of a stationary (elastic) run.
+#[derive(Debug, Clone, Copy)]
+pub struct VirialMeter {
+    time: f64,
+    virial: f64,
+    collisions: u64,
+}
+
+/// What a [`VirialMeter`] measured.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct VirialReading {
+    /// Compressibility factor Z = pV/(NT).
+    pub z: f64,
+    /// Collision frequency per particle ν = 2C/(N Δt).
+    pub nu: f64,
+    /// Interval length.
+    pub duration: f64,
+}
+
+impl VirialMeter {
+    /// Starts measuring now.
+    pub fn start<const D: usize, B: Boundary, R: CollisionRule, C: Calendar>(sim: &Simulation<D, B, R, C>) -> Self {
+        VirialMeter { time: sim.time(), virial: sim.counters.virial, collisions: sim.counters.pair_collisions }
+    }
+
+    /// Reads Z and ν since the start, with the current temperature.
+    pub fn read<const D: usize, B: Boundary, R: CollisionRule, C: Calendar>(&self, sim: &Simulation<D, B, R, C>) -> VirialReading {
+        let dt = sim.time() - self.time;
+        let n = sim.len() as f64;
+        let t = sim.temperature();
+        VirialReading {
+            z: 1.0 + (sim.counters.virial - self.virial) / (D as f64 * n * t * dt),
+            nu: 2.0 * (sim.counters.pair_collisions - self.collisions) as f64 / (n * dt),
+            duration: dt,
+        }
+    }
+}
+
+/// Points in τ at which to sample: a linear grid, a logarithmic grid, and explicit points, merged.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Schedule {
+    /// Sample every `linear` in τ, starting at 0 (none if `None`).
+    pub linear: Option<f64>,
+    /// Samples per decade of τ on a logarithmic grid (none if `None`).
+    pub log_per_decade: Option<u32>,
+    /// First τ of the logarithmic grid (default 0.1 when 0).
+    pub log_start: f64,
+    /// Explicit points.
+    pub points: Vec<f64>,
+}
+
+impl Schedule {
+    /// Every `every` in τ.
+    pub fn every(every: f64) -> Self {
+        Schedule { linear: Some(every), ..Default::default() }
+    }
+
+    /// Explicit points only.
+    pub fn at(points: &[f64]) -> Self {
+        Schedule { points: points.to_vec(), ..Default::default() }
+    }
+
+    fn contains(&self, tau: f64) -> bool {
+        self.linear.is_some_and(|e| e > 0.0 && (tau / e).fract() == 0.0)
+            || self.points.contains(&tau)
+            || self.log_per_decade.is_some_and(|_| tau == self.log_start0())
+    }
+
+    fn log_start0(&self) -> f64 {
+        if self.log_start > 0.0 {
+            self.log_start
+        } else {
+            0.1
+        }
+    }
+
+    /// The first point ≥ `tau`.
+    pub fn first_at_or_after(&self, tau: f64) -> Option<f64> {
+        if self.contains(tau) {
+            Some(tau)
+        } else {
+            self.next_after(tau)
+        }
+    }
+
+    /// The first point > `tau`.
+    pub fn next_after(&self, tau: f64) -> Option<f64> {
+        let mut best = f64::INFINITY;
+        if let Some(e) = self.linear.filter(|&e| e > 0.0) {
+            let mut k = (tau / e).floor() + 1.0;
+            while k * e <= tau {
+                k += 1.0;
+            }
+            best = best.min(k * e);
+        }
+        if let Some(per) = self.log_per_decade.filter(|&p| p > 0) {
+            let start = self.log_start0();
+            if tau < start {
+                best = best.min(start);
+            } else {
+                let per = per as f64;
+                let mut m = ((tau / start).log10() * per + 1e-9).floor() + 1.0;
+                while start * 10f64.powf(m / per) <= tau {
+                    m += 1.0;
+                }
+                best = best.min(start * 10f64.powf(m / per));
+            }
+        }
+        for &p in &self.points {
+            if p > tau && p < best {
+                best = p;
+            }
+        }
+        best.is_finite().then_some(best)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn schedule_merges_grids_and_never_repeats() {
+        let s = Schedule { linear: Some(5.0), log_per_decade: Some(2), log_start: 1.0, points: vec![2.5] };
+        let mut taus = vec![s.first_at_or_after(0.0).unwrap()];
+        while let Some(t) = s.next_after(*taus.last().unwrap()) {
+            if t > 20.0 {
+                break;
+            }
+            taus.push(t);
+        }
+        let want = [0.0, 1.0, 2.5, 10f64.sqrt(), 5.0, 10.0, 15.0, 20.0];
+        assert_eq!(taus.len(), want.len(), "{taus:?}");
+        for (a, b) in taus.iter().zip(want) {
+            assert!((a - b).abs() < 1e-12, "{taus:?}");
+        }
+    }
+}

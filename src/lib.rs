@@ -1,0 +1,1 @@
+pub use edmd_core::*;
