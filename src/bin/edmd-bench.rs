@@ -48,7 +48,11 @@ struct Outcome {
     bytes_per_particle: f64,
 }
 
-fn measure<const D: usize>(case: &Case, repeats: usize, per_particle: f64) -> Result<Outcome, String> {
+fn measure<const D: usize>(
+    case: &Case,
+    repeats: usize,
+    per_particle: f64,
+) -> Result<Outcome, String> {
     let base = CURRENT.load(Relaxed);
     PEAK.store(base, Relaxed);
     let mut p = InitParams::<D>::with_packing(case.n, case.phi).map_err(|e| e.to_string())?;
@@ -75,7 +79,11 @@ fn measure<const D: usize>(case: &Case, repeats: usize, per_particle: f64) -> Re
     rates.sort_by(f64::total_cmp);
     let median = rates[rates.len() / 2];
     let spread = (rates[rates.len() - 1] - rates[0]) / median;
-    Ok(Outcome { median, spread, bytes_per_particle: peak as f64 / case.n as f64 })
+    Ok(Outcome {
+        median,
+        spread,
+        bytes_per_particle: peak as f64 / case.n as f64,
+    })
 }
 
 fn run_case(case: &Case, repeats: usize, per_particle: Option<f64>) -> Result<Outcome, String> {
@@ -117,22 +125,59 @@ fn real_main() -> Result<(), String> {
     let per = (per > 0.0).then_some(per);
     if args.iter().any(|a| a == "--matrix") {
         let max_n: usize = arg(&args, "--max-n", 1_000_000)?;
-        println!("{:>2} {:>8} {:>5} {:>5} {:>14} {:>8} {:>10}", "D", "N", "phi", "eps", "collisions/s", "spread", "bytes/N");
+        println!(
+            "{:>2} {:>8} {:>5} {:>5} {:>14} {:>8} {:>10}",
+            "D", "N", "phi", "eps", "collisions/s", "spread", "bytes/N"
+        );
         for d in [2usize, 3] {
-            let phis: &[f64] = if d == 2 { &[0.05, 0.3, 0.5, 0.7] } else { &[0.05, 0.3, 0.45] };
-            for n in [1_000usize, 10_000, 100_000, 1_000_000].into_iter().filter(|&n| n <= max_n) {
+            let phis: &[f64] = if d == 2 {
+                &[0.05, 0.3, 0.5, 0.7]
+            } else {
+                &[0.05, 0.3, 0.45]
+            };
+            for n in [1_000usize, 10_000, 100_000, 1_000_000]
+                .into_iter()
+                .filter(|&n| n <= max_n)
+            {
                 for &phi in phis {
-                    let case = Case { d, n, phi, eps: 1.0 };
+                    let case = Case {
+                        d,
+                        n,
+                        phi,
+                        eps: 1.0,
+                    };
                     let o = run_case(&case, repeats, per)?;
-                    println!("{d:>2} {n:>8} {phi:>5} {:>5} {:>14.0} {:>7.1}% {:>10.1}", 1.0, o.median, 100.0 * o.spread, o.bytes_per_particle);
+                    println!(
+                        "{d:>2} {n:>8} {phi:>5} {:>5} {:>14.0} {:>7.1}% {:>10.1}",
+                        1.0,
+                        o.median,
+                        100.0 * o.spread,
+                        o.bytes_per_particle
+                    );
                 }
             }
         }
         return Ok(());
     }
-    let case = Case { d: arg(&args, "--d", 2)?, n: arg(&args, "--n", 10_000)?, phi: arg(&args, "--phi", 0.3)?, eps: arg(&args, "--eps", 1.0)? };
+    let case = Case {
+        d: arg(&args, "--d", 2)?,
+        n: arg(&args, "--n", 10_000)?,
+        phi: arg(&args, "--phi", 0.3)?,
+        eps: arg(&args, "--eps", 1.0)?,
+    };
     let o = run_case(&case, repeats, per)?;
-    println!("D={} N={} phi={} eps={} repeats={} spread={:.1}%", case.d, case.n, case.phi, case.eps, repeats, 100.0 * o.spread);
-    println!("collisions_per_s={:.0} bytes_per_particle={:.1}", o.median, o.bytes_per_particle);
+    println!(
+        "D={} N={} phi={} eps={} repeats={} spread={:.1}%",
+        case.d,
+        case.n,
+        case.phi,
+        case.eps,
+        repeats,
+        100.0 * o.spread
+    );
+    println!(
+        "collisions_per_s={:.0} bytes_per_particle={:.1}",
+        o.median, o.bytes_per_particle
+    );
     Ok(())
 }

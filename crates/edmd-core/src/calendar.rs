@@ -37,6 +37,10 @@ pub trait Calendar: std::fmt::Debug + Send {
     fn is_empty(&self) -> bool {
         self.len() == 0
     }
+    /// The particle most likely to be popped next, if known cheaply (used to prefetch its data).
+    fn next_hint(&self) -> Option<u32> {
+        None
+    }
     /// Empties the calendar and sets its time origin and bucket width (a hint; `width > 0`).
     fn reset(&mut self, origin: f64, width: f64);
 }
@@ -46,14 +50,28 @@ fn earlier(a: (f64, u32), b: (f64, u32)) -> bool {
     a.0 < b.0 || (a.0 == b.0 && a.1 < b.1)
 }
 
+/// One particle's place in a [`PaulCalendar`].
+#[derive(Debug, Clone, Copy)]
+struct Slot {
+    time: f64,
+    next: u32,
+    prev: u32,
+    /// `NONE`, `IN_HEAP | position`, or a list index (bucket, or `nb` = overflow).
+    loc: u32,
+}
+
+const EMPTY_SLOT: Slot = Slot {
+    time: f64::INFINITY,
+    next: NONE,
+    prev: NONE,
+    loc: NONE,
+};
+
 /// O(1)-amortised calendar of Paul (2007); see the module documentation.
 #[derive(Debug, Clone)]
 pub struct PaulCalendar {
-    /// Where particle `i` is: `NONE`, `IN_HEAP | position`, or a list index (bucket, or `nb` = overflow).
-    loc: Vec<u32>,
-    time: Vec<f64>,
-    next: Vec<u32>,
-    prev: Vec<u32>,
+    /// Per-particle entry: time, list links and location, together in one cache line.
+    slots: Vec<Slot>,
     /// Heads of the `nb` bucket lists, then the overflow list.
     heads: Vec<u32>,
     heap: Vec<(f64, u32)>,
@@ -81,38 +99,39 @@ impl PaulCalendar {
 
     #[inline(always)]
     fn bucket_of(&self, t: f64) -> i64 {
-        // `as` saturates for huge values; monotone in t, so ordering is consistent.
-        ((t - self.origin) * self.inv_width).floor() as i64
+        // Truncation equals floor here (t ≥ origin); `as` saturates for huge values and is monotone
+        // in t, so every entry's bucket is consistent with the order of times.
+        ((t - self.origin) * self.inv_width) as i64
     }
 
     #[inline]
     fn link(&mut self, i: u32, list: usize) {
         let h = self.heads[list];
-        self.next[i as usize] = h;
-        self.prev[i as usize] = NONE;
+        self.slots[i as usize].next = h;
+        self.slots[i as usize].prev = NONE;
         if h != NONE {
-            self.prev[h as usize] = i;
+            self.slots[h as usize].prev = i;
         }
         self.heads[list] = i;
-        self.loc[i as usize] = list as u32;
+        self.slots[i as usize].loc = list as u32;
     }
 
     #[inline]
     fn unlink(&mut self, i: u32, list: usize) {
-        let (n, p) = (self.next[i as usize], self.prev[i as usize]);
+        let (n, p) = (self.slots[i as usize].next, self.slots[i as usize].prev);
         if p == NONE {
             self.heads[list] = n;
         } else {
-            self.next[p as usize] = n;
+            self.slots[p as usize].next = n;
         }
         if n != NONE {
-            self.prev[n as usize] = p;
+            self.slots[n as usize].prev = p;
         }
     }
 
     #[inline]
     fn insert(&mut self, i: u32, t: f64) {
-        self.time[i as usize] = t;
+        self.slots[i as usize].time = t;
         let k = self.bucket_of(t) - self.cur;
         if k <= 0 {
             self.heap_push(t, i);
@@ -130,14 +149,14 @@ impl PaulCalendar {
     fn heap_push(&mut self, t: f64, i: u32) {
         let pos = self.heap.len();
         self.heap.push((t, i));
-        self.loc[i as usize] = IN_HEAP | pos as u32;
+        self.slots[i as usize].loc = IN_HEAP | pos as u32;
         self.sift_up(pos);
     }
 
     #[inline]
     fn heap_set(&mut self, pos: usize, e: (f64, u32)) {
         self.heap[pos] = e;
-        self.loc[e.1 as usize] = IN_HEAP | pos as u32;
+        self.slots[e.1 as usize].loc = IN_HEAP | pos as u32;
     }
 
     fn sift_up(&mut self, mut pos: usize) {
@@ -163,7 +182,11 @@ impl PaulCalendar {
                 break;
             }
             let r = l + 1;
-            let c = if r < len && earlier(self.heap[r], self.heap[l]) { r } else { l };
+            let c = if r < len && earlier(self.heap[r], self.heap[l]) {
+                r
+            } else {
+                l
+            };
             if !earlier(self.heap[c], e) {
                 break;
             }
@@ -174,7 +197,10 @@ impl PaulCalendar {
     }
 
     fn heap_remove(&mut self, pos: usize) {
-        let last = self.heap.pop().expect("heap position of a scheduled particle");
+        let last = self
+            .heap
+            .pop()
+            .expect("heap position of a scheduled particle");
         if pos < self.heap.len() {
             self.heap_set(pos, last);
             self.sift_down(pos);
@@ -188,8 +214,8 @@ impl PaulCalendar {
         self.heads[self.nb] = NONE;
         self.in_overflow = 0;
         while i != NONE {
-            let next = self.next[i as usize];
-            self.insert(i, self.time[i as usize]);
+            let next = self.slots[i as usize].next;
+            self.insert(i, self.slots[i as usize].time);
             i = next;
         }
     }
@@ -202,8 +228,8 @@ impl PaulCalendar {
             let mut tmin = f64::INFINITY;
             let mut i = self.heads[self.nb];
             while i != NONE {
-                tmin = tmin.min(self.time[i as usize]);
-                i = self.next[i as usize];
+                tmin = tmin.min(self.slots[i as usize].time);
+                i = self.slots[i as usize].next;
             }
             let nb = self.nb as i64;
             let start = self.bucket_of(tmin).div_euclid(nb) * nb;
@@ -224,9 +250,9 @@ impl PaulCalendar {
             let mut i = self.heads[b];
             self.heads[b] = NONE;
             while i != NONE {
-                let next = self.next[i as usize];
+                let next = self.slots[i as usize].next;
                 self.in_buckets -= 1;
-                self.heap_push(self.time[i as usize], i);
+                self.heap_push(self.slots[i as usize].time, i);
                 i = next;
             }
             if !self.heap.is_empty() {
@@ -240,10 +266,7 @@ impl Calendar for PaulCalendar {
     fn with_capacity(n: usize) -> Self {
         let nb = n.max(16).next_power_of_two();
         PaulCalendar {
-            loc: vec![NONE; n],
-            time: vec![f64::INFINITY; n],
-            next: vec![NONE; n],
-            prev: vec![NONE; n],
+            slots: vec![EMPTY_SLOT; n],
             heads: vec![NONE; nb + 1],
             heap: Vec::with_capacity(64),
             origin: 0.0,
@@ -269,7 +292,7 @@ impl Calendar for PaulCalendar {
 
     #[inline]
     fn remove(&mut self, i: u32) {
-        let l = self.loc[i as usize];
+        let l = self.slots[i as usize].loc;
         if l == NONE {
             return;
         }
@@ -283,7 +306,7 @@ impl Calendar for PaulCalendar {
                 self.in_buckets -= 1;
             }
         }
-        self.loc[i as usize] = NONE;
+        self.slots[i as usize].loc = NONE;
         self.len -= 1;
     }
 
@@ -297,7 +320,7 @@ impl Calendar for PaulCalendar {
         }
         let (t, i) = self.heap[0];
         self.heap_remove(0);
-        self.loc[i as usize] = NONE;
+        self.slots[i as usize].loc = NONE;
         self.len -= 1;
         Some((i, t))
     }
@@ -316,9 +339,17 @@ impl Calendar for PaulCalendar {
         self.len
     }
 
+    #[inline(always)]
+    fn next_hint(&self) -> Option<u32> {
+        self.heap.first().map(|e| e.1)
+    }
+
     fn reset(&mut self, origin: f64, width: f64) {
-        assert!(width > 0.0 && width.is_finite(), "calendar bucket width must be positive");
-        self.loc.fill(NONE);
+        assert!(
+            width > 0.0 && width.is_finite(),
+            "calendar bucket width must be positive"
+        );
+        self.slots.fill(EMPTY_SLOT);
         self.heads.fill(NONE);
         self.heap.clear();
         self.origin = origin;
@@ -370,7 +401,12 @@ impl HeapCalendar {
 
 impl Calendar for HeapCalendar {
     fn with_capacity(n: usize) -> Self {
-        HeapCalendar { heap: BinaryHeap::with_capacity(2 * n), version: vec![0; n], active: vec![false; n], len: 0 }
+        HeapCalendar {
+            heap: BinaryHeap::with_capacity(2 * n),
+            version: vec![0; n],
+            active: vec![false; n],
+            len: 0,
+        }
     }
 
     fn schedule(&mut self, i: u32, t: f64) {
@@ -385,7 +421,8 @@ impl Calendar for HeapCalendar {
         if self.heap.len() > 4 * self.version.len() + 64 {
             // Compact: drop stale entries so memory stays bounded.
             let (version, active) = (&self.version, &self.active);
-            self.heap.retain(|k| active[k.1 as usize] && version[k.1 as usize] == k.2);
+            self.heap
+                .retain(|k| active[k.1 as usize] && version[k.1 as usize] == k.2);
         }
     }
 
@@ -448,7 +485,11 @@ mod tests {
             now = ta;
             // Reschedule the popped particle and disturb a random other one, sometimes far ahead,
             // sometimes at exactly `now`, sometimes removing it.
-            let dt = if rng.random::<f64>() < 0.05 { rng.random::<f64>() * 1e3 } else { rng.random::<f64>() };
+            let dt = if rng.random::<f64>() < 0.05 {
+                rng.random::<f64>() * 1e3
+            } else {
+                rng.random::<f64>()
+            };
             a.schedule(ia, now + dt);
             b.schedule(ib, now + dt);
             let j = rng.random_range(0..n as u32);

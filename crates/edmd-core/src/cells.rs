@@ -19,6 +19,10 @@ pub struct CellGrid<const D: usize> {
     pub side: [f64; D],
     /// Linear-index stride per axis.
     pub stride: [usize; D],
+    /// Linear-index offsets of the 3^D neighbour cells of an interior cell.
+    pub full: Vec<isize>,
+    /// Offsets of the 3^(D−1) cells at offset −1 (index `2a`) or +1 (index `2a + 1`) along axis `a`.
+    pub partial: Vec<Vec<isize>>,
     head: Vec<u32>,
     next: Vec<u32>,
     prev: Vec<u32>,
@@ -27,7 +31,12 @@ pub struct CellGrid<const D: usize> {
 impl<const D: usize> CellGrid<D> {
     /// A grid over a box `box_len` for `particles` particles, with cells of side at least `min_side`
     /// (close to `target_side` when that is larger).
-    pub fn new(box_len: &Vector<D>, min_side: f64, target_side: f64, particles: usize) -> Result<Self, EdmdError> {
+    pub fn new(
+        box_len: &Vector<D>,
+        min_side: f64,
+        target_side: f64,
+        particles: usize,
+    ) -> Result<Self, EdmdError> {
         let mut n = [0usize; D];
         let mut side = [0.0; D];
         let mut stride = [0usize; D];
@@ -37,17 +46,65 @@ impl<const D: usize> CellGrid<D> {
             let len = box_len[a];
             let max_cells = (len / min_side).floor();
             if !(max_cells >= 3.0) {
-                return Err(EdmdError::BoxTooSmall { axis: AXIS_NAMES[a], len, cell: min_side });
+                return Err(EdmdError::BoxTooSmall {
+                    axis: AXIS_NAMES[a],
+                    len,
+                    cell: min_side,
+                });
             }
             let cells = ((len / want).floor().max(3.0)).min(max_cells).min(1e7) as usize;
             n[a] = cells;
             side[a] = len / cells as f64;
             stride[a] = total;
-            total = total.checked_mul(cells).filter(|&t| t < u32::MAX as usize).ok_or_else(|| {
-                EdmdError::invalid("cell count", total as f64 * cells as f64, "too many cells; use a denser box")
-            })?;
+            total = total
+                .checked_mul(cells)
+                .filter(|&t| t < u32::MAX as usize)
+                .ok_or_else(|| {
+                    EdmdError::invalid(
+                        "cell count",
+                        total as f64 * cells as f64,
+                        "too many cells; use a denser box",
+                    )
+                })?;
         }
-        Ok(CellGrid { n, side, stride, head: vec![NONE; total], next: vec![NONE; particles], prev: vec![NONE; particles] })
+        let mut full = Vec::new();
+        let mut partial = vec![Vec::new(); 2 * D];
+        for code in 0..3usize.pow(D as u32) {
+            let mut rest = code;
+            let mut off = 0isize;
+            let mut digits = [0i32; D];
+            for a in 0..D {
+                digits[a] = (rest % 3) as i32 - 1;
+                rest /= 3;
+                off += digits[a] as isize * stride[a] as isize;
+            }
+            full.push(off);
+            for a in 0..D {
+                if digits[a] != 0 {
+                    partial[2 * a + (digits[a] > 0) as usize].push(off);
+                }
+            }
+        }
+        Ok(CellGrid {
+            n,
+            side,
+            stride,
+            full,
+            partial,
+            head: vec![NONE; total],
+            next: vec![NONE; particles],
+            prev: vec![NONE; particles],
+        })
+    }
+
+    /// True if cell `c` has no face on the box boundary, so its neighbours need no wrapping.
+    #[inline(always)]
+    pub fn is_interior(&self, c: &[u32; D]) -> bool {
+        let mut inside = true;
+        for a in 0..D {
+            inside &= c[a] >= 1 && (c[a] as usize) + 1 < self.n[a];
+        }
+        inside
     }
 
     /// Number of cells.
@@ -117,6 +174,11 @@ impl<const D: usize> CellGrid<D> {
         if n != NONE {
             self.prev[n as usize] = p;
         }
+    }
+
+    /// Empties every cell.
+    pub fn clear(&mut self) {
+        self.head.fill(NONE);
     }
 
     /// Heap bytes held by the grid.

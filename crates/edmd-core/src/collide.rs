@@ -35,7 +35,11 @@ impl ConstantRestitution {
     /// A rule with restitution `epsilon`; errors unless `0 ≤ ε ≤ 1`.
     pub fn new(epsilon: f64) -> Result<Self, EdmdError> {
         if !(0.0..=1.0).contains(&epsilon) {
-            return Err(EdmdError::invalid("epsilon", epsilon, "restitution must lie in [0, 1]"));
+            return Err(EdmdError::invalid(
+                "epsilon",
+                epsilon,
+                "restitution must lie in [0, 1]",
+            ));
         }
         Ok(ConstantRestitution { epsilon })
     }

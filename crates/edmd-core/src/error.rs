@@ -51,8 +51,16 @@ pub enum EdmdError {
 
 impl EdmdError {
     /// Shorthand for [`EdmdError::InvalidParameter`].
-    pub fn invalid(field: &'static str, value: impl std::fmt::Display, reason: impl Into<String>) -> Self {
-        EdmdError::InvalidParameter { field, value: value.to_string(), reason: reason.into() }
+    pub fn invalid(
+        field: &'static str,
+        value: impl std::fmt::Display,
+        reason: impl Into<String>,
+    ) -> Self {
+        EdmdError::InvalidParameter {
+            field,
+            value: value.to_string(),
+            reason: reason.into(),
+        }
     }
 }
 

@@ -6,8 +6,11 @@ use rand::{Rng, SeedableRng};
 use rand_distr::StandardNormal;
 use rand_xoshiro::Xoshiro256PlusPlus;
 
+use crate::calendar::{Calendar, PaulCalendar};
 use crate::cells::{CellGrid, NONE};
-use crate::{Boundary, CollisionRule, EdmdError, Elastic, ParticleInit, SimParams, Simulation, Stop, Vector};
+use crate::{
+    Boundary, CollisionRule, EdmdError, Elastic, ParticleInit, SimParams, Simulation, Stop, Vector,
+};
 
 /// How particles are placed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -64,7 +67,11 @@ impl<const D: usize> InitParams<D> {
             return Err(EdmdError::invalid("N", n, "need at least one particle"));
         }
         if !(phi > 0.0 && phi < 1.0) {
-            return Err(EdmdError::invalid("phi", phi, "packing fraction must lie in (0, 1)"));
+            return Err(EdmdError::invalid(
+                "phi",
+                phi,
+                "packing fraction must lie in (0, 1)",
+            ));
         }
         let side = (n as f64 * unit_volume::<D>(0.5) / phi).powf(1.0 / D as f64);
         Ok(Self::in_box(n, Vector::<D>::repeat(side)))
@@ -98,24 +105,44 @@ impl<const D: usize> InitParams<D> {
 
     fn validate(&self) -> Result<(), EdmdError> {
         if self.n < 2 {
-            return Err(EdmdError::invalid("N", self.n, "need at least two particles (momentum is set to zero)"));
+            return Err(EdmdError::invalid(
+                "N",
+                self.n,
+                "need at least two particles (momentum is set to zero)",
+            ));
         }
         if !(self.radius > 0.0 && self.radius.is_finite()) {
-            return Err(EdmdError::invalid("radius", self.radius, "must be positive"));
+            return Err(EdmdError::invalid(
+                "radius",
+                self.radius,
+                "must be positive",
+            ));
         }
         if let Some(r) = &self.radii {
             if r.len() != self.n {
-                return Err(EdmdError::invalid("radii", r.len(), format!("need one radius per particle (N = {})", self.n)));
+                return Err(EdmdError::invalid(
+                    "radii",
+                    r.len(),
+                    format!("need one radius per particle (N = {})", self.n),
+                ));
             }
             if let Some(bad) = r.iter().find(|&&r| !(r > 0.0 && r.is_finite())) {
-                return Err(EdmdError::invalid("radii", bad, "every radius must be positive"));
+                return Err(EdmdError::invalid(
+                    "radii",
+                    bad,
+                    "every radius must be positive",
+                ));
             }
         }
         if !(self.mass > 0.0 && self.mass.is_finite()) {
             return Err(EdmdError::invalid("mass", self.mass, "must be positive"));
         }
         if !(self.temperature > 0.0 && self.temperature.is_finite()) {
-            return Err(EdmdError::invalid("temperature", self.temperature, "must be positive"));
+            return Err(EdmdError::invalid(
+                "temperature",
+                self.temperature,
+                "must be positive",
+            ));
         }
         if let Some(m) = self.melt_tau {
             if !(m >= 0.0 && m.is_finite()) {
@@ -124,17 +151,35 @@ impl<const D: usize> InitParams<D> {
         }
         let phi = self.packing_fraction();
         if !(phi < 1.0) {
-            return Err(EdmdError::invalid("phi", phi, "packing fraction must be below 1"));
+            return Err(EdmdError::invalid(
+                "phi",
+                phi,
+                "packing fraction must be below 1",
+            ));
         }
         Ok(())
     }
 
     /// Builds the simulation: places particles, draws velocities, melts a lattice elastically, sets
     /// zero momentum and the exact temperature, and resets the counters.
-    pub fn build<B: Boundary, R: CollisionRule>(&self, rule: R) -> Result<Simulation<D, B, R>, EdmdError> {
+    pub fn build<B: Boundary, R: CollisionRule>(
+        &self,
+        rule: R,
+    ) -> Result<Simulation<D, B, R>, EdmdError> {
+        self.build_with_calendar::<B, R, PaulCalendar>(rule)
+    }
+
+    /// [`Self::build`] with a chosen event calendar (e.g. [`crate::HeapCalendar`] as an oracle).
+    pub fn build_with_calendar<B: Boundary, R: CollisionRule, C: Calendar>(
+        &self,
+        rule: R,
+    ) -> Result<Simulation<D, B, R, C>, EdmdError> {
         self.validate()?;
         let mut rng = Xoshiro256PlusPlus::seed_from_u64(self.seed);
-        let radii: Vec<f64> = self.radii.clone().unwrap_or_else(|| vec![self.radius; self.n]);
+        let radii: Vec<f64> = self
+            .radii
+            .clone()
+            .unwrap_or_else(|| vec![self.radius; self.n]);
         let phi = self.packing_fraction();
         let lattice = match self.placement {
             Placement::Random => false,
@@ -143,25 +188,39 @@ impl<const D: usize> InitParams<D> {
         };
         let positions = if lattice {
             if self.radii.is_some() {
-                return Err(EdmdError::invalid("placement", "lattice", "lattice starts need equal radii; use random placement"));
+                return Err(EdmdError::invalid(
+                    "placement",
+                    "lattice",
+                    "lattice starts need equal radii; use random placement",
+                ));
             }
             lattice_positions::<D, B>(self.n, &self.box_len, self.radius, phi, &mut rng)?
         } else {
             random_positions::<D, B>(&radii, &self.box_len, phi, &mut rng)?
         };
-        let masses: Vec<f64> = radii.iter().map(|&r| self.mass * (r / self.radius).powi(D as i32)).collect();
+        let masses: Vec<f64> = radii
+            .iter()
+            .map(|&r| self.mass * (r / self.radius).powi(D as i32))
+            .collect();
         let velocities = draw_velocities::<D>(&masses, self.velocities, self.temperature, &mut rng);
-        let particles: Vec<ParticleInit<D>> = (0..self.n)
-            .map(|i| ParticleInit { pos: positions[i], vel: velocities[i], radius: radii[i], mass: masses[i] })
+        let particles: Vec<ParticleInit<D>> = (positions.into_iter().zip(velocities))
+            .zip(radii.into_iter().zip(masses))
+            .map(|((pos, vel), (radius, mass))| ParticleInit {
+                pos,
+                vel,
+                radius,
+                mass,
+            })
             .collect();
         let params = self.sim.unwrap_or_else(|| SimParams::for_density::<D>(phi));
         let melt = self.melt_tau.unwrap_or(if lattice { 20.0 } else { 0.0 });
         let sim = if melt > 0.0 {
-            let mut sim = Simulation::<D, B, Elastic>::new(self.box_len, &particles, Elastic, params)?;
+            let mut sim =
+                Simulation::<D, B, Elastic, C>::new(self.box_len, particles, Elastic, params)?;
             sim.run(Stop::Tau(melt));
             sim.with_rule(rule)
         } else {
-            Simulation::<D, B, R>::new(self.box_len, &particles, rule, params)?
+            Simulation::<D, B, R, C>::new(self.box_len, particles, rule, params)?
         };
         let mut sim = sim;
         let t = sim.temperature();
@@ -216,7 +275,11 @@ fn random_positions<const D: usize, B: Boundary>(
             }
         }
         if !ok {
-            return Err(EdmdError::TooDense { method: "random", phi, max: count as f64 / radii.len() as f64 * phi });
+            return Err(EdmdError::TooDense {
+                method: "random",
+                phi,
+                max: count as f64 / radii.len() as f64 * phi,
+            });
         }
     }
     Ok(placed)
@@ -278,8 +341,20 @@ fn lattice_positions<const D: usize, B: Boundary>(
     rng: &mut Xoshiro256PlusPlus,
 ) -> Result<Vec<Vector<D>>, EdmdError> {
     // On a walled axis the sites span [r, L − r] and the last body-centre site touches the far end.
-    let span = |a: usize| if B::is_wall(a) { box_len[a] - 2.0 * radius } else { box_len[a] };
-    let spacing = |a: usize, cells: usize| if B::is_wall(a) { span(a) / (cells as f64 - 0.5) } else { span(a) / cells as f64 };
+    let span = |a: usize| {
+        if B::is_wall(a) {
+            box_len[a] - 2.0 * radius
+        } else {
+            box_len[a]
+        }
+    };
+    let spacing = |a: usize, cells: usize| {
+        if B::is_wall(a) {
+            span(a) / (cells as f64 - 0.5)
+        } else {
+            span(a) / cells as f64
+        }
+    };
     let min_dist = |cells: &[usize; D]| {
         let mut sq = 0.0;
         let mut best = f64::INFINITY;
@@ -318,7 +393,11 @@ fn lattice_positions<const D: usize, B: Boundary>(
     if dist < 2.0 * radius * (1.0 + 1e-9) {
         // φ scales as (σ/dist)^D at fixed sites: the largest φ this lattice reaches.
         let max = phi * (dist / (2.0 * radius)).powi(D as i32);
-        return Err(EdmdError::TooDense { method: "lattice", phi, max });
+        return Err(EdmdError::TooDense {
+            method: "lattice",
+            phi,
+            max,
+        });
     }
     let mut sites: Vec<Vector<D>> = Vec::with_capacity(2 * cells.iter().product::<usize>());
     let total: usize = cells.iter().product();
@@ -333,7 +412,11 @@ fn lattice_positions<const D: usize, B: Boundary>(
             let mut x = Vector::<D>::zeros();
             for a in 0..D {
                 let u = idx[a] as f64 + 0.5 * b as f64;
-                x[a] = if B::is_wall(a) { radius + u * spacing(a, cells[a]) } else { (u + 0.25) * spacing(a, cells[a]) };
+                x[a] = if B::is_wall(a) {
+                    radius + u * spacing(a, cells[a])
+                } else {
+                    (u + 0.25) * spacing(a, cells[a])
+                };
             }
             sites.push(x);
         }
@@ -348,7 +431,12 @@ fn lattice_positions<const D: usize, B: Boundary>(
 }
 
 /// Draws velocities, removes the centre-of-mass velocity and scales to temperature `t0` exactly.
-pub fn draw_velocities<const D: usize>(masses: &[f64], dist: Velocities, t0: f64, rng: &mut impl Rng) -> Vec<Vector<D>> {
+pub fn draw_velocities<const D: usize>(
+    masses: &[f64],
+    dist: Velocities,
+    t0: f64,
+    rng: &mut impl Rng,
+) -> Vec<Vector<D>> {
     let mut v: Vec<Vector<D>> = masses
         .iter()
         .map(|_| {
@@ -359,7 +447,11 @@ pub fn draw_velocities<const D: usize>(masses: &[f64], dist: Velocities, t0: f64
         })
         .collect();
     let mtot: f64 = masses.iter().sum();
-    let vcm = v.iter().zip(masses).fold(Vector::<D>::zeros(), |acc, (v, m)| acc + v * *m) / mtot;
+    let vcm = v
+        .iter()
+        .zip(masses)
+        .fold(Vector::<D>::zeros(), |acc, (v, m)| acc + v * *m)
+        / mtot;
     let mut ke2 = 0.0;
     for (v, m) in v.iter_mut().zip(masses) {
         *v -= vcm;
@@ -395,12 +487,23 @@ mod tests {
         for (phi, walls) in [(0.7, false), (0.7, true)] {
             let mut p = InitParams::<2>::with_packing(400, phi).unwrap();
             p.melt_tau = Some(0.0);
-            let sim = if walls { p.build::<Walls, _>(Elastic).map(|s| s.deepest_overlap()) } else { p.build::<Periodic, _>(Elastic).map(|s| s.deepest_overlap()) };
+            let sim = if walls {
+                p.build::<Walls, _>(Elastic).map(|s| s.deepest_overlap())
+            } else {
+                p.build::<Periodic, _>(Elastic).map(|s| s.deepest_overlap())
+            };
             assert!(sim.unwrap().unwrap().2 <= 1e-12, "phi {phi} walls {walls}");
         }
         let mut p = InitParams::<3>::with_packing(1000, 0.5).unwrap();
         p.melt_tau = Some(0.0);
-        assert!(p.build::<Periodic, _>(Elastic).unwrap().deepest_overlap().unwrap().2 <= 1e-12);
+        assert!(
+            p.build::<Periodic, _>(Elastic)
+                .unwrap()
+                .deepest_overlap()
+                .unwrap()
+                .2
+                <= 1e-12
+        );
     }
 
     #[test]
@@ -408,7 +511,16 @@ mod tests {
         let mut p = InitParams::<2>::with_packing(400, 0.6).unwrap();
         p.placement = Placement::Random;
         let e = p.build::<Periodic, _>(Elastic).unwrap_err();
-        assert!(matches!(e, EdmdError::TooDense { method: "random", .. }), "{e}");
+        assert!(
+            matches!(
+                e,
+                EdmdError::TooDense {
+                    method: "random",
+                    ..
+                }
+            ),
+            "{e}"
+        );
         let p = InitParams::<2>::with_packing(400, 0.95).unwrap();
         let e = p.build::<Periodic, _>(Elastic).unwrap_err().to_string();
         assert!(e.contains("lattice") && e.contains("0.9500"), "{e}");
@@ -416,9 +528,13 @@ mod tests {
 
     #[test]
     fn bad_parameters_name_the_field() {
-        let e = InitParams::<2>::with_packing(0, 0.2).unwrap_err().to_string();
+        let e = InitParams::<2>::with_packing(0, 0.2)
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("N = 0"), "{e}");
-        let e = InitParams::<2>::with_packing(10, 1.2).unwrap_err().to_string();
+        let e = InitParams::<2>::with_packing(10, 1.2)
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("phi = 1.2"), "{e}");
         let mut p = InitParams::<2>::with_packing(10, 0.1).unwrap();
         p.radius = -1.0;

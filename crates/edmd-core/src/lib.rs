@@ -33,6 +33,7 @@ pub mod error;
 pub mod init;
 pub mod observe;
 pub mod predict;
+mod prefetch;
 pub mod sim;
 pub mod state;
 pub mod theory;

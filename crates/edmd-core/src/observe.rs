@@ -34,7 +34,11 @@ pub struct Observables<const D: usize> {
 impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B, R, C> {
     /// Total kinetic energy.
     pub fn kinetic_energy(&self) -> f64 {
-        self.particles.iter().zip(&self.mass).map(|(p, m)| 0.5 * m * p.vel.norm_squared()).sum()
+        self.particles
+            .iter()
+            .zip(&self.meta)
+            .map(|(p, m)| 0.5 * m.mass * p.vel.norm_squared())
+            .sum()
     }
 
     /// Granular temperature `T = Σ m v² / (d N)`.
@@ -46,7 +50,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     pub fn observe(&self) -> Observables<D> {
         let mut momentum = Vector::<D>::zeros();
         let (mut scale, mut ke, mut v2, mut v4) = (0.0, 0.0, 0.0, 0.0);
-        for (p, &m) in self.particles.iter().zip(&self.mass) {
+        for (p, m) in self.particles.iter().zip(self.meta.iter().map(|m| m.mass)) {
             let s2 = p.vel.norm_squared();
             momentum += p.vel * m;
             scale += m * s2.sqrt();
@@ -64,7 +68,11 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             temperature: 2.0 * ke / (D as f64 * n),
             momentum,
             momentum_scale: scale,
-            kurtosis: if v2 > 0.0 { (v4 / n) / (v2 / n).powi(2) } else { f64::NAN },
+            kurtosis: if v2 > 0.0 {
+                (v4 / n) / (v2 / n).powi(2)
+            } else {
+                f64::NAN
+            },
         }
     }
 }
@@ -90,12 +98,21 @@ pub struct VirialReading {
 
 impl VirialMeter {
     /// Starts measuring now.
-    pub fn start<const D: usize, B: Boundary, R: CollisionRule, C: Calendar>(sim: &Simulation<D, B, R, C>) -> Self {
-        VirialMeter { time: sim.time(), virial: sim.counters.virial, collisions: sim.counters.pair_collisions }
+    pub fn start<const D: usize, B: Boundary, R: CollisionRule, C: Calendar>(
+        sim: &Simulation<D, B, R, C>,
+    ) -> Self {
+        VirialMeter {
+            time: sim.time(),
+            virial: sim.counters.virial,
+            collisions: sim.counters.pair_collisions,
+        }
     }
 
     /// Reads Z and ν since the start, with the current temperature.
-    pub fn read<const D: usize, B: Boundary, R: CollisionRule, C: Calendar>(&self, sim: &Simulation<D, B, R, C>) -> VirialReading {
+    pub fn read<const D: usize, B: Boundary, R: CollisionRule, C: Calendar>(
+        &self,
+        sim: &Simulation<D, B, R, C>,
+    ) -> VirialReading {
         let dt = sim.time() - self.time;
         let n = sim.len() as f64;
         let t = sim.temperature();
@@ -123,18 +140,27 @@ pub struct Schedule {
 impl Schedule {
     /// Every `every` in τ.
     pub fn every(every: f64) -> Self {
-        Schedule { linear: Some(every), ..Default::default() }
+        Schedule {
+            linear: Some(every),
+            ..Default::default()
+        }
     }
 
     /// Explicit points only.
     pub fn at(points: &[f64]) -> Self {
-        Schedule { points: points.to_vec(), ..Default::default() }
+        Schedule {
+            points: points.to_vec(),
+            ..Default::default()
+        }
     }
 
     fn contains(&self, tau: f64) -> bool {
-        self.linear.is_some_and(|e| e > 0.0 && (tau / e).fract() == 0.0)
+        self.linear
+            .is_some_and(|e| e > 0.0 && (tau / e).fract() == 0.0)
             || self.points.contains(&tau)
-            || self.log_per_decade.is_some_and(|_| tau == self.log_start0())
+            || self
+                .log_per_decade
+                .is_some_and(|_| tau == self.log_start0())
     }
 
     fn log_start0(&self) -> f64 {
@@ -192,7 +218,12 @@ mod tests {
 
     #[test]
     fn schedule_merges_grids_and_never_repeats() {
-        let s = Schedule { linear: Some(5.0), log_per_decade: Some(2), log_start: 1.0, points: vec![2.5] };
+        let s = Schedule {
+            linear: Some(5.0),
+            log_per_decade: Some(2),
+            log_start: 1.0,
+            points: vec![2.5],
+        };
         let mut taus = vec![s.first_at_or_after(0.0).unwrap()];
         while let Some(t) = s.next_after(*taus.last().unwrap()) {
             if t > 20.0 {

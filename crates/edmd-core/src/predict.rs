@@ -10,16 +10,13 @@
 use crate::Vector;
 
 /// Time until contact, or `∞` if the pair never touches (from the current positions).
+///
+/// Written without data-dependent branches (the approach test is a coin flip for neighbours, so
+/// branches would mispredict): every quantity is computed and the result selected.
 #[inline(always)]
 pub fn pair_time<const D: usize>(dr: &Vector<D>, dv: &Vector<D>, sigma: f64) -> f64 {
     let b = dr.dot(dv);
-    if b >= 0.0 {
-        return f64::INFINITY;
-    }
     let c = dr.norm_squared() - sigma * sigma;
-    if c <= 0.0 {
-        return 0.0;
-    }
     // b² − v²c = v²σ² − |r × v|²: the cross-product form keeps its digits for grazing approaches
     // from afar, where b² and v²c nearly cancel.
     let mut cross2 = 0.0;
@@ -30,10 +27,13 @@ pub fn pair_time<const D: usize>(dr: &Vector<D>, dv: &Vector<D>, sigma: f64) -> 
         }
     }
     let disc = dv.norm_squared() * sigma * sigma - cross2;
-    if disc <= 0.0 {
-        return f64::INFINITY;
+    let t = c / (disc.max(0.0).sqrt() - b);
+    let t = if c <= 0.0 { 0.0 } else { t };
+    if b < 0.0 && disc > 0.0 {
+        t
+    } else {
+        f64::INFINITY
     }
-    c / (disc.sqrt() - b)
 }
 
 /// Time until coordinate `x` moving at `v` reaches `target`: `∞` at rest, `0` if already past it.
@@ -58,15 +58,31 @@ mod tests {
 
     #[test]
     fn receding_and_missing_pairs_never_collide() {
-        assert_eq!(pair_time(&vector![3.0, 0.0], &vector![1.0, 0.0], 1.0), f64::INFINITY);
-        assert_eq!(pair_time(&vector![3.0, 2.0], &vector![-1.0, 0.0], 1.0), f64::INFINITY);
+        assert_eq!(
+            pair_time(&vector![3.0, 0.0], &vector![1.0, 0.0], 1.0),
+            f64::INFINITY
+        );
+        assert_eq!(
+            pair_time(&vector![3.0, 2.0], &vector![-1.0, 0.0], 1.0),
+            f64::INFINITY
+        );
     }
 
     #[test]
     fn overlap_while_approaching_collides_now() {
-        assert_eq!(pair_time(&vector![0.999_999_999, 0.0, 0.0], &vector![-1.0, 0.0, 0.0], 1.0), 0.0);
+        assert_eq!(
+            pair_time(
+                &vector![0.999_999_999, 0.0, 0.0],
+                &vector![-1.0, 0.0, 0.0],
+                1.0
+            ),
+            0.0
+        );
         // Overlapping but separating: no event.
-        assert_eq!(pair_time(&vector![0.99, 0.0], &vector![1.0, 0.0], 1.0), f64::INFINITY);
+        assert_eq!(
+            pair_time(&vector![0.99, 0.0], &vector![1.0, 0.0], 1.0),
+            f64::INFINITY
+        );
     }
 
     #[test]

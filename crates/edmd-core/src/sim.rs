@@ -36,7 +36,23 @@ pub(crate) struct EventSlot {
 }
 
 impl EventSlot {
-    const EMPTY: EventSlot = EventSlot { coll_t: f64::INFINITY, aux_t: f64::INFINITY, partner: NONE, partner_count: 0, aux: 0 };
+    const EMPTY: EventSlot = EventSlot {
+        coll_t: f64::INFINITY,
+        aux_t: f64::INFINITY,
+        partner: NONE,
+        partner_count: 0,
+        aux: 0,
+    };
+}
+
+/// Per-particle bookkeeping kept together so that one cache line serves an event.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Meta<const D: usize> {
+    pub ev: EventSlot,
+    pub mass: f64,
+    /// Collisions suffered; a partner's stored count that differs marks a stale candidate.
+    pub counter: u32,
+    pub cell: [u32; D],
 }
 
 /// What an event was.
@@ -79,17 +95,28 @@ pub struct SimParams {
 
 impl Default for SimParams {
     fn default() -> Self {
-        SimParams { cell_factor: 1.0, rebase_events_per_particle: 8.0 }
+        SimParams {
+            cell_factor: 1.0,
+            rebase_events_per_particle: 8.0,
+        }
     }
 }
 
 impl SimParams {
     /// A cell factor that balances crossings against neighbour checks for a packing fraction `phi`.
     pub fn for_density<const D: usize>(phi: f64) -> Self {
-        // About one particle per cell area at low density, never below the diameter.
-        let per_cell_volume = if D == 2 { std::f64::consts::PI / 4.0 } else { std::f64::consts::PI / 6.0 };
-        let side = (per_cell_volume / phi.max(1e-12)).powf(1.0 / D as f64) * 0.9;
-        SimParams { cell_factor: side.max(1.0), ..Default::default() }
+        // Measured (edmd-core/examples/profile): cells of one diameter are fastest at φ ≥ 0.3; dilute
+        // gases keep about 0.4 particles per cell, so crossings do not dominate.
+        let per_cell_volume = if D == 2 {
+            std::f64::consts::PI / 4.0
+        } else {
+            std::f64::consts::PI / 6.0
+        };
+        let side = (0.4 * per_cell_volume / phi.max(1e-12)).powf(1.0 / D as f64);
+        SimParams {
+            cell_factor: side.max(1.0),
+            ..Default::default()
+        }
     }
 }
 
@@ -98,10 +125,10 @@ impl SimParams {
 #[derive(Debug, Clone)]
 pub struct Simulation<const D: usize, B: Boundary, R: CollisionRule, C: Calendar = PaulCalendar> {
     pub(crate) particles: Vec<Particle<D>>,
-    pub(crate) mass: Vec<f64>,
-    pub(crate) counter: Vec<u32>,
-    pub(crate) cell: Vec<[u32; D]>,
-    pub(crate) events: Vec<EventSlot>,
+    /// Original index of the particle in each slot (slots are kept sorted by cell for locality).
+    pub(crate) ids: Vec<u32>,
+    /// Per-particle bookkeeping, touched when the particle itself has an event.
+    pub(crate) meta: Vec<Meta<D>>,
     pub(crate) grid: CellGrid<D>,
     pub(crate) calendar: C,
     pub(crate) rule: R,
@@ -119,7 +146,12 @@ pub struct Simulation<const D: usize, B: Boundary, R: CollisionRule, C: Calendar
 impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B, R, C> {
     /// Builds a simulation from explicit particles. Errors if a parameter is invalid, a particle lies
     /// outside the box (or inside a wall), or two particles overlap.
-    pub fn new(box_len: Vector<D>, particles: &[ParticleInit<D>], rule: R, params: SimParams) -> Result<Self, EdmdError> {
+    pub fn new(
+        box_len: Vector<D>,
+        particles: Vec<ParticleInit<D>>,
+        rule: R,
+        params: SimParams,
+    ) -> Result<Self, EdmdError> {
         let n = particles.len();
         if n == 0 {
             return Err(EdmdError::invalid("N", 0, "need at least one particle"));
@@ -129,42 +161,90 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         }
         for a in 0..D {
             if !(box_len[a] > 0.0 && box_len[a].is_finite()) {
-                return Err(EdmdError::invalid(crate::error::AXIS_NAMES[a], box_len[a], "box side must be positive and finite"));
+                return Err(EdmdError::invalid(
+                    crate::error::AXIS_NAMES[a],
+                    box_len[a],
+                    "box side must be positive and finite",
+                ));
             }
         }
         if !(params.cell_factor >= 1.0 && params.cell_factor.is_finite()) {
-            return Err(EdmdError::invalid("cell_factor", params.cell_factor, "must be ≥ 1"));
+            return Err(EdmdError::invalid(
+                "cell_factor",
+                params.cell_factor,
+                "must be ≥ 1",
+            ));
         }
         if !(params.rebase_events_per_particle > 0.0) {
-            return Err(EdmdError::invalid("rebase_events_per_particle", params.rebase_events_per_particle, "must be > 0"));
+            return Err(EdmdError::invalid(
+                "rebase_events_per_particle",
+                params.rebase_events_per_particle,
+                "must be > 0",
+            ));
         }
         let mut max_d: f64 = 0.0;
         for (i, p) in particles.iter().enumerate() {
             if !(p.radius > 0.0 && p.radius.is_finite()) {
-                return Err(EdmdError::invalid("radius", p.radius, format!("particle {i}: radius must be positive")));
+                return Err(EdmdError::invalid(
+                    "radius",
+                    p.radius,
+                    format!("particle {i}: radius must be positive"),
+                ));
             }
             if !(p.mass > 0.0 && p.mass.is_finite()) {
-                return Err(EdmdError::invalid("mass", p.mass, format!("particle {i}: mass must be positive")));
+                return Err(EdmdError::invalid(
+                    "mass",
+                    p.mass,
+                    format!("particle {i}: mass must be positive"),
+                ));
             }
             for a in 0..D {
-                let (lo, hi) = if B::is_wall(a) { (p.radius, box_len[a] - p.radius) } else { (0.0, box_len[a]) };
+                let (lo, hi) = if B::is_wall(a) {
+                    (p.radius, box_len[a] - p.radius)
+                } else {
+                    (0.0, box_len[a])
+                };
                 let x = p.pos[a];
                 if !(x >= lo && x <= hi) || (!B::is_wall(a) && x >= hi) {
-                    return Err(EdmdError::invalid("position", x, format!("particle {i}, axis {a}: outside [{lo}, {hi}]")));
+                    return Err(EdmdError::invalid(
+                        "position",
+                        x,
+                        format!("particle {i}, axis {a}: outside [{lo}, {hi}]"),
+                    ));
                 }
                 if !p.vel[a].is_finite() {
-                    return Err(EdmdError::invalid("velocity", p.vel[a], format!("particle {i}: not finite")));
+                    return Err(EdmdError::invalid(
+                        "velocity",
+                        p.vel[a],
+                        format!("particle {i}: not finite"),
+                    ));
                 }
             }
             max_d = max_d.max(2.0 * p.radius);
         }
         let grid = CellGrid::new(&box_len, max_d, max_d * params.cell_factor, n)?;
+        let meta = particles
+            .iter()
+            .map(|p| Meta {
+                ev: EventSlot::EMPTY,
+                mass: p.mass,
+                counter: 0,
+                cell: [0; D],
+            })
+            .collect();
         let mut sim = Simulation {
-            particles: particles.iter().map(|p| Particle { pos: p.pos, vel: p.vel, t: 0.0, radius: p.radius }).collect(),
-            mass: particles.iter().map(|p| p.mass).collect(),
-            counter: vec![0; n],
-            cell: vec![[0; D]; n],
-            events: vec![EventSlot::EMPTY; n],
+            // Same size and alignment: the conversion reuses the allocation.
+            particles: particles
+                .into_iter()
+                .map(|p| Particle {
+                    pos: p.pos,
+                    vel: p.vel,
+                    t: 0.0,
+                    radius: p.radius,
+                })
+                .collect(),
+            ids: (0..n as u32).collect(),
+            meta,
             grid,
             calendar: C::with_capacity(n),
             rule,
@@ -180,7 +260,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         };
         for i in 0..n {
             let c = sim.grid.coords_of(&sim.particles[i].pos);
-            sim.cell[i] = c;
+            sim.meta[i].cell = c;
             sim.grid.insert(i as u32, sim.grid.index(&c));
         }
         if let Some((i, j, overlap)) = sim.deepest_overlap().filter(|o| o.2 > 1e-12) {
@@ -194,10 +274,8 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     pub fn with_rule<R2: CollisionRule>(self, rule: R2) -> Simulation<D, B, R2, C> {
         Simulation {
             particles: self.particles,
-            mass: self.mass,
-            counter: self.counter,
-            cell: self.cell,
-            events: self.events,
+            ids: self.ids,
+            meta: self.meta,
             grid: self.grid,
             calendar: self.calendar,
             rule,
@@ -217,13 +295,24 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     pub fn restart_events(&mut self) {
         let n = self.particles.len();
         self.sync();
+        self.sort_by_cell();
         let mut sum = 0.0;
         let mut count = 0usize;
         for i in 0..n {
             let (coll_t, partner) = self.search(i, None, (f64::INFINITY, NONE));
             let (aux_t, aux) = self.aux_event(i);
-            let partner_count = if partner == NONE { 0 } else { self.counter[partner as usize] };
-            self.events[i] = EventSlot { coll_t, aux_t, partner, partner_count, aux };
+            let partner_count = if partner == NONE {
+                0
+            } else {
+                self.meta[partner as usize].counter
+            };
+            self.meta[i].ev = EventSlot {
+                coll_t,
+                aux_t,
+                partner,
+                partner_count,
+                aux,
+            };
             let t = coll_t.min(aux_t);
             if t.is_finite() {
                 sum += t - self.now;
@@ -231,7 +320,11 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             }
         }
         // Each event renews about 1.5 predictions: the mean time between events is ≈ ⟨Δt⟩ / (0.7 N).
-        let width = if count > 0 && sum > 0.0 { EVENTS_PER_BUCKET * sum / count as f64 / (0.7 * n as f64) } else { 1.0 };
+        let width = if count > 0 && sum > 0.0 {
+            EVENTS_PER_BUCKET * sum / count as f64 / (0.7 * n as f64)
+        } else {
+            1.0
+        };
         self.reschedule_all(width);
         self.next_maintenance = self.counters.events + n.max(1000) as u64;
         self.last_maintenance = (self.counters.events, self.now);
@@ -240,8 +333,75 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     fn reschedule_all(&mut self, width: f64) {
         self.calendar.reset(self.now, width);
         for i in 0..self.particles.len() {
-            let e = &self.events[i];
+            let e = &self.meta[i].ev;
             self.calendar.schedule(i as u32, e.coll_t.min(e.aux_t));
+        }
+    }
+
+    /// Renumbers the slots in cell order so that neighbours sit close in memory. The event slots'
+    /// partners are renumbered; the calendar must be rebuilt by the caller.
+    fn sort_by_cell(&mut self) {
+        let n = self.particles.len();
+        let cells: Vec<u32> = self
+            .meta
+            .iter()
+            .map(|m| self.grid.index(&m.cell) as u32)
+            .collect();
+        if cells.windows(2).all(|w| w[0] <= w[1]) {
+            return;
+        }
+        // Counting sort: perm[new] = old.
+        let mut start = vec![0u32; self.grid.len() + 1];
+        for &c in &cells {
+            start[c as usize + 1] += 1;
+        }
+        for k in 1..start.len() {
+            start[k] += start[k - 1];
+        }
+        let mut perm = vec![0u32; n];
+        for (old, &c) in cells.iter().enumerate() {
+            let slot = &mut start[c as usize];
+            perm[*slot as usize] = old as u32;
+            *slot += 1;
+        }
+        let mut inv = vec![0u32; n];
+        for (new, &old) in perm.iter().enumerate() {
+            inv[old as usize] = new as u32;
+        }
+        // In place, following cycles (no second copy of the big arrays): slot `new` takes `perm[new]`.
+        fn permute<T: Copy>(v: &mut [T], perm: &[u32], done: &mut [bool]) {
+            done.fill(false);
+            for start in 0..v.len() {
+                if done[start] {
+                    continue;
+                }
+                let first = v[start];
+                let mut cur = start;
+                loop {
+                    done[cur] = true;
+                    let src = perm[cur] as usize;
+                    if src == start {
+                        v[cur] = first;
+                        break;
+                    }
+                    v[cur] = v[src];
+                    cur = src;
+                }
+            }
+        }
+        let mut done = vec![false; n];
+        permute(&mut self.particles, &perm, &mut done);
+        permute(&mut self.ids, &perm, &mut done);
+        permute(&mut self.meta, &perm, &mut done);
+        for m in &mut self.meta {
+            if m.ev.partner != NONE {
+                m.ev.partner = inv[m.ev.partner as usize];
+            }
+        }
+        self.grid.clear();
+        for s in (0..n).rev() {
+            let idx = self.grid.index(&self.meta[s].cell);
+            self.grid.insert(s as u32, idx);
         }
     }
 
@@ -265,14 +425,18 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     #[inline]
     pub fn step(&mut self) -> Option<EventKind> {
         let (i, t) = self.calendar.pop()?;
+        if let Some(next) = self.calendar.next_hint() {
+            crate::prefetch::prefetch(&self.particles[next as usize]);
+            crate::prefetch::prefetch(&self.meta[next as usize]);
+        }
         debug_assert!(t >= self.now, "event in the past: {t} < {}", self.now);
         self.now = t;
         self.counters.events += 1;
         let i = i as usize;
-        let e = self.events[i];
+        let e = self.meta[i].ev;
         let kind = if e.coll_t <= e.aux_t {
             let j = e.partner as usize;
-            if self.counter[j] == e.partner_count {
+            if self.meta[j].counter == e.partner_count {
                 self.collide(i, j);
                 self.predict(i);
                 self.predict(j);
@@ -306,8 +470,18 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     #[inline]
     fn store(&mut self, i: usize, coll_t: f64, partner: u32) {
         let (aux_t, aux) = self.aux_event(i);
-        let partner_count = if partner == NONE { 0 } else { self.counter[partner as usize] };
-        self.events[i] = EventSlot { coll_t, aux_t, partner, partner_count, aux };
+        let partner_count = if partner == NONE {
+            0
+        } else {
+            self.meta[partner as usize].counter
+        };
+        self.meta[i].ev = EventSlot {
+            coll_t,
+            aux_t,
+            partner,
+            partner_count,
+            aux,
+        };
         self.calendar.schedule(i as u32, coll_t.min(aux_t));
     }
 
@@ -316,51 +490,101 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     #[inline]
     fn search(&self, i: usize, only: Option<(usize, i32)>, mut best: (f64, u32)) -> (f64, u32) {
         let pi = self.particles[i];
-        let ci = self.cell[i];
-        let now = self.now;
-        let combos = 3usize.pow(D as u32);
-        'cells: for code in 0..combos {
-            let mut rest = code;
-            let mut idx = 0usize;
-            let mut shift = Vector::<D>::zeros();
-            for a in 0..D {
-                let off = (rest % 3) as i32 - 1;
-                rest /= 3;
-                if let Some((axis, dir)) = only {
-                    if a == axis && off != dir {
-                        continue 'cells;
-                    }
+        let ci = self.meta[i].cell;
+        if self.grid.is_interior(&ci) {
+            // Interior cell (the common case): fixed offsets, no periodic images.
+            let center = self.grid.index(&ci) as isize;
+            let offsets = match only {
+                None => &self.grid.full,
+                Some((axis, dir)) => &self.grid.partial[2 * axis + (dir > 0) as usize],
+            };
+            for &o in offsets {
+                best = self.scan_cell((center + o) as usize, i, &pi, &pi.pos, best);
+            }
+            return best;
+        }
+        // Per axis: the neighbour rows to visit, as linear-index contribution and image shift.
+        let mut lin = [[0usize; 3]; D];
+        let mut sh = [[0.0f64; 3]; D];
+        let mut count = [0usize; D];
+        for a in 0..D {
+            let n = self.grid.n[a] as i32;
+            for off in -1..=1 {
+                if matches!(only, Some((axis, dir)) if axis == a && off != dir) {
+                    continue;
                 }
-                let n = self.grid.n[a] as i32;
                 let mut x = ci[a] as i32 + off;
+                let mut s = 0.0;
                 if x < 0 {
                     if B::is_wall(a) {
-                        continue 'cells;
+                        continue;
                     }
                     x += n;
-                    shift[a] = -self.box_len[a];
+                    s = -self.box_len[a];
                 } else if x >= n {
                     if B::is_wall(a) {
-                        continue 'cells;
+                        continue;
                     }
                     x -= n;
-                    shift[a] = self.box_len[a];
+                    s = self.box_len[a];
                 }
-                idx += x as usize * self.grid.stride[a];
+                lin[a][count[a]] = x as usize * self.grid.stride[a];
+                sh[a][count[a]] = s;
+                count[a] += 1;
             }
-            let mut k = self.grid.first(idx);
-            while k != NONE {
-                if k as usize != i {
-                    let pk = &self.particles[k as usize];
-                    let dr = pi.pos - pk.pos - pk.vel * (now - pk.t) - shift;
-                    let dv = pi.vel - pk.vel;
-                    let t = now + pair_time(&dr, &dv, pi.radius + pk.radius);
-                    if t < best.0 {
-                        best = (t, k);
-                    }
+            if count[a] == 0 {
+                return best;
+            }
+        }
+        let mut digit = [0usize; D];
+        loop {
+            let mut idx = 0;
+            let mut ri = pi.pos;
+            for a in 0..D {
+                idx += lin[a][digit[a]];
+                ri[a] -= sh[a][digit[a]];
+            }
+            best = self.scan_cell(idx, i, &pi, &ri, best);
+            let mut a = 0;
+            loop {
+                digit[a] += 1;
+                if digit[a] < count[a] {
+                    break;
                 }
-                k = self.grid.next(k);
+                digit[a] = 0;
+                a += 1;
+                if a == D {
+                    return best;
+                }
             }
+        }
+    }
+
+    /// Earliest contact of particle `i` (state `pi`, position image `ri`) with the members of cell `idx`.
+    #[inline(always)]
+    fn scan_cell(
+        &self,
+        idx: usize,
+        i: usize,
+        pi: &Particle<D>,
+        ri: &Vector<D>,
+        mut best: (f64, u32),
+    ) -> (f64, u32) {
+        let now = self.now;
+        let mut k = self.grid.first(idx);
+        while k != NONE {
+            let pk = &self.particles[k as usize];
+            let next = self.grid.next(k);
+            if next != NONE {
+                crate::prefetch::prefetch(&self.particles[next as usize]);
+            }
+            let dr = ri - pk.pos - pk.vel * (now - pk.t);
+            let dv = pi.vel - pk.vel;
+            let t = now + pair_time(&dr, &dv, pi.radius + pk.radius);
+            if t < best.0 && k as usize != i {
+                best = (t, k);
+            }
+            k = next;
         }
         best
     }
@@ -369,7 +593,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     #[inline]
     fn aux_event(&self, i: usize) -> (f64, u8) {
         let p = &self.particles[i];
-        let c = &self.cell[i];
+        let c = &self.meta[i].cell;
         let mut best = (f64::INFINITY, 0u8);
         for a in 0..D {
             let v = p.vel[a];
@@ -377,10 +601,21 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             if v == 0.0 {
                 continue;
             }
-            let edge = if up { c[a] as usize + 1 == self.grid.n[a] } else { c[a] == 0 };
+            let edge = if up {
+                c[a] as usize + 1 == self.grid.n[a]
+            } else {
+                c[a] == 0
+            };
             let (dt, code) = if B::is_wall(a) && edge {
-                let target = if up { self.box_len[a] - p.radius } else { p.radius };
-                (reach_time(p.pos[a], v, target), WALL | (a as u8) << 1 | up as u8)
+                let target = if up {
+                    self.box_len[a] - p.radius
+                } else {
+                    p.radius
+                };
+                (
+                    reach_time(p.pos[a], v, target),
+                    WALL | (a as u8) << 1 | up as u8,
+                )
             } else {
                 let face = (c[a] + up as u32) as f64 * self.grid.side[a];
                 (reach_time(p.pos[a], v, face), (a as u8) << 1 | up as u8)
@@ -417,12 +652,12 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             return;
         }
         let eps = self.rule.restitution(-gn);
-        let (mi, mj) = (self.mass[i], self.mass[j]);
+        let (mi, mj) = (self.meta[i].mass, self.meta[j].mass);
         let impulse = -(1.0 + eps) * gn * (mi * mj / (mi + mj));
         self.particles[i].vel += normal * (impulse / mi);
         self.particles[j].vel -= normal * (impulse / mj);
-        self.counter[i] = self.counter[i].wrapping_add(1);
-        self.counter[j] = self.counter[j].wrapping_add(1);
+        self.meta[i].counter = self.meta[i].counter.wrapping_add(1);
+        self.meta[j].counter = self.meta[j].counter.wrapping_add(1);
         self.counters.pair_collisions += 1;
         self.counters.virial += impulse * dist;
     }
@@ -433,7 +668,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         self.advance(i);
         let p = &mut self.particles[i];
         p.vel[axis] = -p.vel[axis];
-        self.counter[i] = self.counter[i].wrapping_add(1);
+        self.meta[i].counter = self.meta[i].counter.wrapping_add(1);
         self.counters.wall_collisions += 1;
     }
 
@@ -442,9 +677,9 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     fn cross(&mut self, i: usize, axis: usize, up: bool) {
         self.advance(i);
         self.counters.crossings += 1;
-        let old = self.grid.index(&self.cell[i]);
+        let old = self.grid.index(&self.meta[i].cell);
         let n = self.grid.n[axis] as u32;
-        let c = &mut self.cell[i][axis];
+        let c = &mut self.meta[i].cell[axis];
         if up {
             *c += 1;
             if *c == n {
@@ -457,13 +692,17 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         } else {
             *c -= 1;
         }
-        let new = self.grid.index(&self.cell[i]);
+        let new = self.grid.index(&self.meta[i].cell);
         self.grid.remove(i as u32, old);
         self.grid.insert(i as u32, new);
-        let e = self.events[i];
-        let valid = e.partner != NONE && self.counter[e.partner as usize] == e.partner_count;
+        let e = self.meta[i].ev;
+        let valid = e.partner != NONE && self.meta[e.partner as usize].counter == e.partner_count;
         let (t, partner) = if valid {
-            self.search(i, Some((axis, if up { 1 } else { -1 })), (e.coll_t, e.partner))
+            self.search(
+                i,
+                Some((axis, if up { 1 } else { -1 })),
+                (e.coll_t, e.partner),
+            )
         } else {
             self.search(i, None, (f64::INFINITY, NONE))
         };
@@ -480,19 +719,21 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         for p in &mut self.particles {
             p.t = 0.0;
         }
-        for e in &mut self.events {
-            e.coll_t -= shift;
-            e.aux_t -= shift;
+        for m in &mut self.meta {
+            m.ev.coll_t -= shift;
+            m.ev.aux_t -= shift;
         }
         self.epoch += shift;
         self.now = 0.0;
+        self.sort_by_cell();
         if elapsed > 0.0 && count > 0 {
             self.reschedule_all(EVENTS_PER_BUCKET * elapsed / count as f64);
         } else {
             self.reschedule_all(1.0);
         }
         let n = self.particles.len() as f64;
-        self.next_maintenance = self.counters.events + (self.params.rebase_events_per_particle * n).max(1000.0) as u64;
+        self.next_maintenance =
+            self.counters.events + (self.params.rebase_events_per_particle * n).max(1000.0) as u64;
         self.last_maintenance = (self.counters.events, 0.0);
     }
 
@@ -524,7 +765,10 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     /// Resets the event counters (not the clock), e.g. after equilibration.
     pub fn reset_counters(&mut self) {
         let events = self.counters.events;
-        self.counters = Counters { events, ..Counters::default() };
+        self.counters = Counters {
+            events,
+            ..Counters::default()
+        };
     }
 
     /// The box sides.
@@ -542,40 +786,55 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         &self.rule
     }
 
-    /// Per-particle masses.
-    pub fn masses(&self) -> &[f64] {
-        &self.mass
+    /// Masses, in the original particle order.
+    pub fn masses(&self) -> Vec<f64> {
+        self.in_original_order(|s| self.meta[s].mass)
     }
 
-    /// Particle states (positions at each particle's own time `t`; see [`Self::positions`]).
+    /// Particle states by internal slot (positions at each particle's own time `t`); see
+    /// [`Self::ids`] for the original index of each slot and [`Self::positions`].
     pub fn particles(&self) -> &[Particle<D>] {
         &self.particles
     }
 
-    /// Per-particle collision counters (pair and wall collisions suffered).
-    pub fn collision_counts(&self) -> &[u32] {
-        &self.counter
+    /// Collisions (pair and wall) suffered by each particle, in the original order.
+    pub fn collision_counts(&self) -> Vec<u32> {
+        self.in_original_order(|s| self.meta[s].counter)
     }
 
-    /// Velocities, which do not depend on the lazy update.
-    pub fn velocities(&self) -> impl ExactSizeIterator<Item = Vector<D>> + '_ {
-        self.particles.iter().map(|p| p.vel)
+    /// Original particle index of each internal slot (slots are renumbered in cell order).
+    pub fn ids(&self) -> &[u32] {
+        &self.ids
     }
 
-    /// Positions at the current time, wrapped into the box on periodic axes.
+    /// Gathers a per-slot quantity into the original particle order.
+    fn in_original_order<T>(&self, f: impl Fn(usize) -> T) -> Vec<T> {
+        let mut slot = vec![0u32; self.len()];
+        for (s, &id) in self.ids.iter().enumerate() {
+            slot[id as usize] = s as u32;
+        }
+        slot.into_iter().map(|s| f(s as usize)).collect()
+    }
+
+    /// Velocities, in the original particle order.
+    pub fn velocities(&self) -> Vec<Vector<D>> {
+        self.in_original_order(|s| self.particles[s].vel)
+    }
+
+    /// Positions at the current time, wrapped into the box on periodic axes, in the original order.
     pub fn positions(&self) -> Vec<Vector<D>> {
-        self.particles
-            .iter()
-            .map(|p| {
-                let mut x = p.pos + p.vel * (self.now - p.t);
-                for a in 0..D {
-                    if !B::is_wall(a) {
-                        x[a] = x[a].rem_euclid(self.box_len[a]);
-                    }
-                }
-                x
-            })
-            .collect()
+        self.in_original_order(|s| self.position_of_slot(s))
+    }
+
+    fn position_of_slot(&self, s: usize) -> Vector<D> {
+        let p = &self.particles[s];
+        let mut x = p.pos + p.vel * (self.now - p.t);
+        for a in 0..D {
+            if !B::is_wall(a) {
+                x[a] = x[a].rem_euclid(self.box_len[a]);
+            }
+        }
+        x
     }
 
     /// Scales every velocity by `factor` and predicts all events again (e.g. to set a temperature).
@@ -584,8 +843,8 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         for p in &mut self.particles {
             p.vel *= factor;
         }
-        for c in &mut self.counter {
-            *c = c.wrapping_add(1);
+        for m in &mut self.meta {
+            m.counter = m.counter.wrapping_add(1);
         }
         self.restart_events();
     }
@@ -594,21 +853,17 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     pub fn heap_bytes(&self) -> usize {
         use std::mem::size_of;
         self.particles.capacity() * size_of::<Particle<D>>()
-            + self.mass.capacity() * 8
-            + self.counter.capacity() * 4
-            + self.cell.capacity() * size_of::<[u32; D]>()
-            + self.events.capacity() * size_of::<EventSlot>()
+            + self.meta.capacity() * size_of::<Meta<D>>()
             + self.grid.heap_bytes()
     }
 
-    /// The deepest overlap among all touching pairs, as `(i, j, depth / contact distance)`; O(N).
+    /// The deepest overlap among all neighbouring pairs, as `(i, j, depth / contact distance)` with
+    /// original indices (negative depth: the closest pair's gap); O(N).
     pub fn deepest_overlap(&self) -> Option<(usize, usize, f64)> {
-        let pos = self.positions();
+        let pos: Vec<Vector<D>> = (0..self.len()).map(|s| self.position_of_slot(s)).collect();
         let mut worst: Option<(usize, usize, f64)> = None;
         for i in 0..self.len() {
-            let ci = self.grid.coords_of(&pos[i]);
-            // Use the authoritative cell, except right after construction where both agree.
-            let ci = if self.counters.events == 0 { ci } else { self.cell[i] };
+            let ci = self.meta[i].cell;
             for code in 0..3usize.pow(D as u32) {
                 let mut rest = code;
                 let mut idx = 0;
@@ -640,7 +895,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                         let sigma = self.particles[i].radius + self.particles[k_].radius;
                         let depth = (sigma - dr.norm()) / sigma;
                         if worst.is_none_or(|w| depth > w.2) {
-                            worst = Some((i, k_, depth));
+                            worst = Some((self.ids[i] as usize, self.ids[k_] as usize, depth));
                         }
                     }
                     k = self.grid.next(k);
@@ -713,7 +968,12 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
 
     /// Runs until `stop`, calling `observe` whenever τ passes a point of `schedule` (including the
     /// current τ if the schedule holds it).
-    pub fn run_sampled(&mut self, stop: Stop, schedule: &crate::Schedule, mut observe: impl FnMut(&Self)) -> RunEnd {
+    pub fn run_sampled(
+        &mut self,
+        stop: Stop,
+        schedule: &crate::Schedule,
+        mut observe: impl FnMut(&Self),
+    ) -> RunEnd {
         let n = self.len() as f64;
         let mut next = schedule.first_at_or_after(self.tau());
         let event_target = match stop {

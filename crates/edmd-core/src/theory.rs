@@ -38,9 +38,20 @@ pub fn number_density(d: usize, phi: f64, sigma: f64) -> f64 {
 
 /// Enskog collision frequency per particle, ν = Ω_d χ n σ^{d−1} √(πT/m) / √π · … :
 /// 2D `ν = 2nσχ√(πT/m)`, 3D `ν = 4nσ²χ√(πT/m)`.
-pub fn collision_frequency(d: usize, phi: f64, chi: f64, sigma: f64, temperature: f64, mass: f64) -> f64 {
+pub fn collision_frequency(
+    d: usize,
+    phi: f64,
+    chi: f64,
+    sigma: f64,
+    temperature: f64,
+    mass: f64,
+) -> f64 {
     let n = number_density(d, phi, sigma);
-    let pref = if d == 2 { 2.0 * sigma } else { 4.0 * sigma * sigma };
+    let pref = if d == 2 {
+        2.0 * sigma
+    } else {
+        4.0 * sigma * sigma
+    };
     pref * n * chi * (PI * temperature / mass).sqrt()
 }
 
@@ -50,7 +61,14 @@ pub fn compressibility(d: usize, phi: f64, chi: f64, epsilon: f64) -> f64 {
 }
 
 /// χ inverted from a measured collision frequency (see [`collision_frequency`]).
-pub fn chi_from_frequency(d: usize, phi: f64, nu: f64, sigma: f64, temperature: f64, mass: f64) -> f64 {
+pub fn chi_from_frequency(
+    d: usize,
+    phi: f64,
+    nu: f64,
+    sigma: f64,
+    temperature: f64,
+    mass: f64,
+) -> f64 {
     nu / collision_frequency(d, phi, 1.0, sigma, temperature, mass)
 }
 
@@ -66,7 +84,12 @@ mod tests {
     /// Values from the table of PHYSICS.md §1.3.
     #[test]
     fn chi_matches_reference_table() {
-        for (phi, h, l) in [(0.05, 1.08380, 1.08379), (0.25, 1.58333, 1.58295), (0.5, 3.12500, 3.10938), (0.6, 4.60937, 4.54346)] {
+        for (phi, h, l) in [
+            (0.05, 1.08380, 1.08379),
+            (0.25, 1.58333, 1.58295),
+            (0.5, 3.12500, 3.10938),
+            (0.6, 4.60937, 4.54346),
+        ] {
             assert!((chi_henderson(phi) - h).abs() < 1e-5);
             assert!((chi_luding(phi) - l).abs() < 1e-5);
         }
