@@ -9,14 +9,29 @@
 
 use crate::Vector;
 
-/// Time until contact, or `∞` if the pair never touches (from the current positions).
+/// An approach speed `|b|/|r|` below this fraction of the particles' speeds is round-off: the
+/// impulse it calls for would not change the velocities, and a contact would repeat forever. Such a
+/// pair is treated as not approaching. (Any real contact that this skips has a normal speed below
+/// 1e-13 of the particle speeds; its neglect can deepen an overlap by ~1e-13 σ per mean free time.)
+pub const APPROACH_TOLERANCE: f64 = 1e-13;
+
+/// True if the pair with `b = r·v`, `dr2 = |r|²` and `speed2 = |v_i|² + |v_j|²` approaches by more
+/// than round-off. The event loop and the collision use this same test, so they always agree.
+#[inline(always)]
+pub fn approaching(b: f64, dr2: f64, speed2: f64) -> bool {
+    b < 0.0 && b * b > APPROACH_TOLERANCE * APPROACH_TOLERANCE * dr2 * speed2
+}
+
+/// Time until contact, or `∞` if the pair never touches (from the current positions); `speed2` is
+/// `|v_i|² + |v_j|²` (see [`approaching`]).
 ///
 /// Written without data-dependent branches (the approach test is a coin flip for neighbours, so
 /// branches would mispredict): every quantity is computed and the result selected.
 #[inline(always)]
-pub fn pair_time<const D: usize>(dr: &Vector<D>, dv: &Vector<D>, sigma: f64) -> f64 {
+pub fn pair_time<const D: usize>(dr: &Vector<D>, dv: &Vector<D>, sigma: f64, speed2: f64) -> f64 {
     let b = dr.dot(dv);
-    let c = dr.norm_squared() - sigma * sigma;
+    let dr2 = dr.norm_squared();
+    let c = dr2 - sigma * sigma;
     // b² − v²c = v²σ² − |r × v|²: the cross-product form keeps its digits for grazing approaches
     // from afar, where b² and v²c nearly cancel.
     let mut cross2 = 0.0;
@@ -29,7 +44,7 @@ pub fn pair_time<const D: usize>(dr: &Vector<D>, dv: &Vector<D>, sigma: f64) -> 
     let disc = dv.norm_squared() * sigma * sigma - cross2;
     let t = c / (disc.max(0.0).sqrt() - b);
     let t = if c <= 0.0 { 0.0 } else { t };
-    if b < 0.0 && disc > 0.0 {
+    if approaching(b, dr2, speed2) && disc > 0.0 {
         t
     } else {
         f64::INFINITY
@@ -52,18 +67,18 @@ mod tests {
 
     #[test]
     fn head_on_contact() {
-        let t = pair_time(&vector![3.0, 0.0], &vector![-1.0, 0.0], 1.0);
+        let t = pair_time(&vector![3.0, 0.0], &vector![-1.0, 0.0], 1.0, 2.0);
         assert!((t - 2.0).abs() < 1e-15);
     }
 
     #[test]
     fn receding_and_missing_pairs_never_collide() {
         assert_eq!(
-            pair_time(&vector![3.0, 0.0], &vector![1.0, 0.0], 1.0),
+            pair_time(&vector![3.0, 0.0], &vector![1.0, 0.0], 1.0, 2.0),
             f64::INFINITY
         );
         assert_eq!(
-            pair_time(&vector![3.0, 2.0], &vector![-1.0, 0.0], 1.0),
+            pair_time(&vector![3.0, 2.0], &vector![-1.0, 0.0], 1.0, 2.0),
             f64::INFINITY
         );
     }
@@ -74,13 +89,14 @@ mod tests {
             pair_time(
                 &vector![0.999_999_999, 0.0, 0.0],
                 &vector![-1.0, 0.0, 0.0],
-                1.0
+                1.0,
+                2.0
             ),
             0.0
         );
         // Overlapping but separating: no event.
         assert_eq!(
-            pair_time(&vector![0.99, 0.0], &vector![1.0, 0.0], 1.0),
+            pair_time(&vector![0.99, 0.0], &vector![1.0, 0.0], 1.0, 2.0),
             f64::INFINITY
         );
     }
@@ -89,9 +105,17 @@ mod tests {
     fn grazing_root_is_accurate() {
         // Near-tangent approach: the naive (−b − √disc)/v² loses digits here, the stable form does not.
         let (y, v): (f64, f64) = (1.0 - 1e-9, 1e-3);
-        let t = pair_time(&vector![1e3, y], &vector![-v, 0.0], 1.0);
+        let t = pair_time(&vector![1e3, y], &vector![-v, 0.0], 1.0, 2.0);
         let exact = (1e3 - (1.0 - y * y).sqrt()) / v;
         assert!(((t - exact) / exact).abs() < 1e-12, "{t} vs {exact}");
+    }
+
+    #[test]
+    fn round_off_approach_in_contact_is_no_approach() {
+        // In contact, moving together: the approach speed 1e-20 is far below round-off.
+        let (dr, dv) = (vector![1.0, 0.0], vector![-1e-20, 1.0]);
+        assert_eq!(pair_time(&dr, &dv, 1.0, 2.0), f64::INFINITY);
+        assert_eq!(pair_time(&dr, &vector![-1e-6, 1.0], 1.0, 2.0), 0.0);
     }
 
     #[test]

@@ -18,7 +18,7 @@ use std::marker::PhantomData;
 
 use crate::calendar::{Calendar, PaulCalendar};
 use crate::cells::{CellGrid, NONE};
-use crate::predict::{pair_time, reach_time};
+use crate::predict::{approaching, pair_time, reach_time};
 use crate::{Boundary, CollisionRule, EdmdError, Particle, ParticleInit, Vector};
 
 const WALL: u8 = 0x80;
@@ -52,10 +52,12 @@ pub(crate) struct Meta<const D: usize> {
     pub mass: f64,
     /// Collisions suffered; a partner's stored count that differs marks a stale candidate.
     pub counter: u32,
+    /// Original index of the particle (slots are renumbered in cell order for locality).
+    pub id: u32,
     pub cell: [u32; D],
 }
 
-/// What an event was.
+/// What an event was, with original particle indices.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum EventKind {
     /// A pair collision between two particles.
@@ -125,8 +127,6 @@ impl SimParams {
 #[derive(Debug, Clone)]
 pub struct Simulation<const D: usize, B: Boundary, R: CollisionRule, C: Calendar = PaulCalendar> {
     pub(crate) particles: Vec<Particle<D>>,
-    /// Original index of the particle in each slot (slots are kept sorted by cell for locality).
-    pub(crate) ids: Vec<u32>,
     /// Per-particle bookkeeping, touched when the particle itself has an event.
     pub(crate) meta: Vec<Meta<D>>,
     pub(crate) grid: CellGrid<D>,
@@ -225,10 +225,12 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         let grid = CellGrid::new(&box_len, max_d, max_d * params.cell_factor, n)?;
         let meta = particles
             .iter()
-            .map(|p| Meta {
+            .enumerate()
+            .map(|(i, p)| Meta {
                 ev: EventSlot::EMPTY,
                 mass: p.mass,
                 counter: 0,
+                id: i as u32,
                 cell: [0; D],
             })
             .collect();
@@ -243,7 +245,6 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                     radius: p.radius,
                 })
                 .collect(),
-            ids: (0..n as u32).collect(),
             meta,
             grid,
             calendar: C::with_capacity(n),
@@ -274,7 +275,6 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     pub fn with_rule<R2: CollisionRule>(self, rule: R2) -> Simulation<D, B, R2, C> {
         Simulation {
             particles: self.particles,
-            ids: self.ids,
             meta: self.meta,
             grid: self.grid,
             calendar: self.calendar,
@@ -391,7 +391,6 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         }
         let mut done = vec![false; n];
         permute(&mut self.particles, &perm, &mut done);
-        permute(&mut self.ids, &perm, &mut done);
         permute(&mut self.meta, &perm, &mut done);
         for m in &mut self.meta {
             if m.ev.partner != NONE {
@@ -440,19 +439,19 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                 self.collide(i, j);
                 self.predict(i);
                 self.predict(j);
-                EventKind::Collision(i as u32, j as u32)
+                EventKind::Collision(self.meta[i].id, self.meta[j].id)
             } else {
                 self.advance(i);
                 self.predict(i);
-                EventKind::Stale(i as u32)
+                EventKind::Stale(self.meta[i].id)
             }
         } else if e.aux & WALL != 0 {
             self.wall(i, (e.aux & 0x7f) as usize >> 1);
             self.predict(i);
-            EventKind::Wall(i as u32)
+            EventKind::Wall(self.meta[i].id)
         } else {
             self.cross(i, (e.aux >> 1) as usize, e.aux & 1 != 0);
-            EventKind::CellCrossing(i as u32)
+            EventKind::CellCrossing(self.meta[i].id)
         };
         if self.counters.events >= self.next_maintenance {
             self.maintenance();
@@ -571,6 +570,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         mut best: (f64, u32),
     ) -> (f64, u32) {
         let now = self.now;
+        let vi2 = pi.vel.norm_squared();
         let mut k = self.grid.first(idx);
         while k != NONE {
             let pk = &self.particles[k as usize];
@@ -580,7 +580,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             }
             let dr = ri - pk.pos - pk.vel * (now - pk.t);
             let dv = pi.vel - pk.vel;
-            let t = now + pair_time(&dr, &dv, pi.radius + pk.radius);
+            let t = now + pair_time(&dr, &dv, pi.radius + pk.radius, vi2 + pk.vel.norm_squared());
             if t < best.0 && k as usize != i {
                 best = (t, k);
             }
@@ -634,23 +634,34 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         self.advance(i);
         self.advance(j);
         let (pi, pj) = (self.particles[i], self.particles[j]);
-        let mut dr = pi.pos - pj.pos;
+        // The image of j nearest to i, and the separation written exactly as `search` writes it, so
+        // that the approach test below and the prediction agree to the last bit: a pair found
+        // approaching is treated as approaching, and one found receding is never predicted again.
+        let mut ri = pi.pos;
         for a in 0..D {
             if !B::is_wall(a) {
-                if dr[a] > self.half_box[a] {
-                    dr[a] -= self.box_len[a];
-                } else if dr[a] < -self.half_box[a] {
-                    dr[a] += self.box_len[a];
+                let d = pi.pos[a] - pj.pos[a];
+                if d > self.half_box[a] {
+                    ri[a] -= self.box_len[a];
+                } else if d < -self.half_box[a] {
+                    ri[a] += self.box_len[a];
                 }
             }
         }
-        let dist = dr.norm();
-        let normal = dr / dist;
-        let gn = (pi.vel - pj.vel).dot(&normal);
-        if gn >= 0.0 {
-            // Grazing contact that round-off turned into a separation: nothing to exchange.
+        let dr = ri - pj.pos;
+        let dv = pi.vel - pj.vel;
+        let b = dr.dot(&dv);
+        if !approaching(
+            b,
+            dr.norm_squared(),
+            pi.vel.norm_squared() + pj.vel.norm_squared(),
+        ) {
+            // Round-off turned a grazing contact into a separation: nothing to exchange.
             return;
         }
+        let dist = dr.norm();
+        let normal = dr / dist;
+        let gn = b / dist;
         let eps = self.rule.restitution(-gn);
         let (mi, mj) = (self.meta[i].mass, self.meta[j].mass);
         let impulse = -(1.0 + eps) * gn * (mi * mj / (mi + mj));
@@ -791,8 +802,8 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         self.in_original_order(|s| self.meta[s].mass)
     }
 
-    /// Particle states by internal slot (positions at each particle's own time `t`); see
-    /// [`Self::ids`] for the original index of each slot and [`Self::positions`].
+    /// Particle states by internal slot, which is not the original order (positions at each
+    /// particle's own time `t`); see [`Self::positions`] and [`Self::velocities`].
     pub fn particles(&self) -> &[Particle<D>] {
         &self.particles
     }
@@ -802,16 +813,11 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         self.in_original_order(|s| self.meta[s].counter)
     }
 
-    /// Original particle index of each internal slot (slots are renumbered in cell order).
-    pub fn ids(&self) -> &[u32] {
-        &self.ids
-    }
-
     /// Gathers a per-slot quantity into the original particle order.
     fn in_original_order<T>(&self, f: impl Fn(usize) -> T) -> Vec<T> {
         let mut slot = vec![0u32; self.len()];
-        for (s, &id) in self.ids.iter().enumerate() {
-            slot[id as usize] = s as u32;
+        for (s, m) in self.meta.iter().enumerate() {
+            slot[m.id as usize] = s as u32;
         }
         slot.into_iter().map(|s| f(s as usize)).collect()
     }
@@ -895,7 +901,8 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                         let sigma = self.particles[i].radius + self.particles[k_].radius;
                         let depth = (sigma - dr.norm()) / sigma;
                         if worst.is_none_or(|w| depth > w.2) {
-                            worst = Some((self.ids[i] as usize, self.ids[k_] as usize, depth));
+                            worst =
+                                Some((self.meta[i].id as usize, self.meta[k_].id as usize, depth));
                         }
                     }
                     k = self.grid.next(k);

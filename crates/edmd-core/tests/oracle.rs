@@ -1,0 +1,115 @@
+//! The engine against independent oracles: an O(N²) brute-force collision predictor, and the
+//! `BinaryHeap` calendar (identical event sequences).
+
+use edmd_core::{
+    Boundary, Calendar, Elastic, EventKind, HeapCalendar, InitParams, PaulCalendar, Periodic,
+    Simulation, Vector, Walls,
+};
+
+/// Earliest contact over all pairs, from scratch, with the minimum image on periodic axes; the plain
+/// (not the engine's) form of the root.
+fn brute_force_next<const D: usize>(
+    pos: &[Vector<D>],
+    vel: &[Vector<D>],
+    radius: f64,
+    box_len: &Vector<D>,
+) -> (usize, usize, f64) {
+    let mut best = (usize::MAX, usize::MAX, f64::INFINITY);
+    for i in 0..pos.len() {
+        for j in i + 1..pos.len() {
+            let mut dr = pos[i] - pos[j];
+            for a in 0..D {
+                dr[a] -= box_len[a] * (dr[a] / box_len[a]).round();
+            }
+            let dv = vel[i] - vel[j];
+            let b = dr.dot(&dv);
+            if b >= 0.0 {
+                continue;
+            }
+            let v2 = dv.norm_squared();
+            let c = dr.norm_squared() - 4.0 * radius * radius;
+            let disc = b * b - v2 * c;
+            if disc < 0.0 {
+                continue;
+            }
+            let t = ((-b - disc.sqrt()) / v2).max(0.0);
+            if t < best.2 {
+                best = (i, j, t);
+            }
+        }
+    }
+    best
+}
+
+fn next_collision<const D: usize, B: Boundary, C: Calendar>(
+    sim: &mut Simulation<D, B, Elastic, C>,
+) -> (usize, usize) {
+    loop {
+        if let EventKind::Collision(a, b) = sim.step().expect("events left") {
+            let (x, y) = (a as usize, b as usize);
+            return (x.min(y), x.max(y));
+        }
+    }
+}
+
+fn check_against_brute_force<const D: usize>(phi: f64) {
+    let mut p = InitParams::<D>::with_packing(200, phi).unwrap();
+    p.seed = 7;
+    let mut sim = p.build::<Periodic, _>(Elastic).unwrap();
+    let box_len = *sim.box_len();
+    let mut worst: f64 = 0.0;
+    for k in 0..10_000 {
+        let (pos, vel, now) = (sim.positions(), sim.velocities(), sim.time());
+        let (i, j, dt) = brute_force_next(&pos, &vel, 0.5, &box_len);
+        let expected = now + dt;
+        let pair = next_collision(&mut sim);
+        assert_eq!(pair, (i, j), "collision {k}: engine {pair:?} at t = {}, brute force {:?} at t = {expected} (now {now})", sim.time(), (i, j));
+        let rel = (sim.time() - expected).abs() / expected;
+        worst = worst.max(rel);
+        assert!(
+            rel < 1e-9,
+            "collision {k}: engine t = {}, brute force t = {expected}",
+            sim.time()
+        );
+    }
+    println!("D = {D}: 10^4 collisions match, worst relative time error {worst:.2e}");
+}
+
+#[test]
+fn first_ten_thousand_collisions_match_brute_force_2d() {
+    check_against_brute_force::<2>(0.3);
+}
+
+#[test]
+fn first_ten_thousand_collisions_match_brute_force_3d() {
+    check_against_brute_force::<3>(0.2);
+}
+
+fn same_sequences<const D: usize, B: Boundary>(phi: f64, events: usize) {
+    let mut p = InitParams::<D>::with_packing(1000, phi).unwrap();
+    p.seed = 11;
+    let mut a = p
+        .build_with_calendar::<B, _, PaulCalendar>(Elastic)
+        .unwrap();
+    let mut b = p
+        .build_with_calendar::<B, _, HeapCalendar>(Elastic)
+        .unwrap();
+    for k in 0..events {
+        let (ea, eb) = (a.step(), b.step());
+        assert_eq!(ea, eb, "event {k}");
+        assert_eq!(a.time().to_bits(), b.time().to_bits(), "event {k}");
+    }
+    assert_eq!(a.counters(), b.counters());
+}
+
+#[test]
+fn paul_and_binary_heap_calendars_agree_2d() {
+    same_sequences::<2, Periodic>(0.3, 100_000);
+    same_sequences::<2, Walls>(0.5, 100_000);
+}
+
+#[test]
+fn paul_and_binary_heap_calendars_agree_3d() {
+    same_sequences::<3, Periodic>(0.3, 100_000);
+    same_sequences::<3, Walls>(0.2, 100_000);
+}

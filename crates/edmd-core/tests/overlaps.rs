@@ -1,0 +1,94 @@
+//! No pair ever overlaps by more than 1e-9 of its contact distance, checked every 10^4 events, in
+//! every scene: dense (φ = 0.7) elastic disks, strongly inelastic (ε = 0.3) gases, walls, channels,
+//! spheres and polydisperse disks.
+
+use edmd_core::{
+    Boundary, Channel, CollisionRule, ConstantRestitution, Elastic, InitParams, Periodic,
+    Placement, Simulation, Stop, Walls,
+};
+
+fn check<const D: usize, B: Boundary, R: CollisionRule>(
+    mut sim: Simulation<D, B, R>,
+    events: u64,
+    label: &str,
+) {
+    let mut worst = f64::NEG_INFINITY;
+    for _ in 0..events / 10_000 {
+        sim.run(Stop::Events(10_000));
+        let (i, j, depth) = sim.deepest_overlap().unwrap();
+        worst = worst.max(depth);
+        assert!(
+            depth < 1e-9,
+            "{label}: particles {i} and {j} overlap by {depth:e} at tau = {}",
+            sim.tau()
+        );
+    }
+    println!(
+        "{label}: deepest overlap {worst:.2e} after {events} events, tau = {:.1}",
+        sim.tau()
+    );
+}
+
+fn eps(e: f64) -> ConstantRestitution {
+    ConstantRestitution::new(e).unwrap()
+}
+
+#[test]
+fn dense_elastic_disks_phi_0_7() {
+    let p = InitParams::<2>::with_packing(2000, 0.7).unwrap();
+    check(
+        p.build::<Periodic, _>(Elastic).unwrap(),
+        300_000,
+        "2D periodic phi=0.7 elastic",
+    );
+    check(
+        p.build::<Walls, _>(Elastic).unwrap(),
+        300_000,
+        "2D walls phi=0.7 elastic",
+    );
+}
+
+#[test]
+fn strongly_inelastic_gases() {
+    let p = InitParams::<2>::with_packing(2000, 0.5).unwrap();
+    check(
+        p.build::<Periodic, _>(eps(0.3)).unwrap(),
+        300_000,
+        "2D periodic phi=0.5 eps=0.3",
+    );
+    let p = InitParams::<2>::with_packing(2000, 0.3).unwrap();
+    check(
+        p.build::<Channel, _>(eps(0.3)).unwrap(),
+        300_000,
+        "2D channel phi=0.3 eps=0.3",
+    );
+    check(
+        p.build::<Walls, _>(eps(0.0)).unwrap(),
+        200_000,
+        "2D walls phi=0.3 eps=0",
+    );
+    let p = InitParams::<3>::with_packing(2000, 0.45).unwrap();
+    check(
+        p.build::<Periodic, _>(eps(0.3)).unwrap(),
+        300_000,
+        "3D periodic phi=0.45 eps=0.3",
+    );
+    check(
+        p.build::<Walls, _>(eps(0.3)).unwrap(),
+        300_000,
+        "3D walls phi=0.45 eps=0.3",
+    );
+}
+
+#[test]
+fn polydisperse_disks() {
+    let n = 2000;
+    let mut p = InitParams::<2>::with_packing(n, 0.3).unwrap();
+    p.radii = Some((0..n).map(|i| 0.2 + 0.3 * (i % 7) as f64 / 6.0).collect());
+    p.placement = Placement::Random;
+    check(
+        p.build::<Periodic, _>(eps(0.7)).unwrap(),
+        300_000,
+        "2D polydisperse eps=0.7",
+    );
+}
