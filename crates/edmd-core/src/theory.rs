@@ -36,7 +36,7 @@ pub fn number_density(d: usize, phi: f64, sigma: f64) -> f64 {
     }
 }
 
-/// Enskog collision frequency per particle, ν = Ω_d χ n σ^{d−1} √(πT/m) / √π · … :
+/// Enskog collision frequency per particle (collisions suffered per unit time):
 /// 2D `ν = 2nσχ√(πT/m)`, 3D `ν = 4nσ²χ√(πT/m)`.
 pub fn collision_frequency(
     d: usize,
@@ -77,6 +77,21 @@ pub fn chi_from_compressibility(d: usize, phi: f64, z: f64) -> f64 {
     (z - 1.0) / (2f64.powi(d as i32 - 1) * phi)
 }
 
+/// First Sonine coefficient of the homogeneous cooling state (van Noije & Ernst 1998):
+/// `a₂ = 16(1−ε)(1−2ε²) / [9 + 24d + (8d − 41)ε + 30ε²(1−ε)]`.
+pub fn a2(d: usize, epsilon: f64) -> f64 {
+    let d = d as f64;
+    16.0 * (1.0 - epsilon) * (1.0 - 2.0 * epsilon * epsilon)
+        / (9.0 + 24.0 * d + (8.0 * d - 41.0) * epsilon + 30.0 * epsilon * epsilon * (1.0 - epsilon))
+}
+
+/// Haff decay rate per τ = C/N in the homogeneous cooling state, consistent first Sonine order
+/// (PHYSICS.md §2.2): `T(τ) = T₀ exp(−k τ)` with `k = (2/d)(1−ε²)(1 + 3a₂/16)/(1 − a₂/16)`.
+pub fn haff_rate(d: usize, epsilon: f64) -> f64 {
+    let a = a2(d, epsilon);
+    2.0 / d as f64 * (1.0 - epsilon * epsilon) * (1.0 + 3.0 * a / 16.0) / (1.0 - a / 16.0)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -92,6 +107,17 @@ mod tests {
         ] {
             assert!((chi_henderson(phi) - h).abs() < 1e-5);
             assert!((chi_luding(phi) - l).abs() < 1e-5);
+        }
+    }
+
+    /// PHYSICS.md §2.3: k per τ_C in 2D, and 3D values.
+    #[test]
+    fn haff_rate_matches_reference_table() {
+        for (eps, k) in [(0.99, 0.01988), (0.9, 0.18873), (0.8, 0.35803), (0.6, 0.64620)] {
+            assert!((haff_rate(2, eps) - k).abs() < 1e-5, "eps {eps}: {}", haff_rate(2, eps));
+        }
+        for (eps, k) in [(0.9, 0.12621), (0.6, 0.42922)] {
+            assert!((haff_rate(3, eps) - k).abs() < 1e-5, "eps {eps}: {}", haff_rate(3, eps));
         }
     }
 

@@ -1,0 +1,67 @@
+# edmd: event-driven molecular dynamics of granular gases.
+#   make run       engine demo: free cooling against Haff's law
+#   make test      everything CI checks (format, lints, Rust tests, Python tests, benchmark smoke run)
+#   make bench     collisions/s and peak bytes per particle over N and phi (or one case: D= N= PHI= EPS=)
+#   make validate  long equilibrium-accuracy runs (chi against Luding / Carnahan-Starling)
+#   make deps      system packages (libhdf5-dev, hdf5-tools) and the Python venv for analysis/
+
+SHELL := /bin/bash
+CARGO ?= cargo
+PYTHON ?= python3
+VENV := .venv
+APT_PACKAGES := libhdf5-dev hdf5-tools pkg-config
+
+.PHONY: all deps build run test test-rust test-python lint bench bench-smoke validate clean
+
+all: build
+
+deps:
+	@missing=""; for p in $(APT_PACKAGES); do dpkg -s $$p >/dev/null 2>&1 || missing="$$missing $$p"; done; \
+	if [ -n "$$missing" ]; then \
+		echo "installing:$$missing"; \
+		if [ "$$(id -u)" = 0 ]; then apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $$missing; \
+		elif command -v sudo >/dev/null; then sudo apt-get update -qq && sudo DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $$missing; \
+		else echo "error: missing Debian packages:$$missing (install them as root)"; exit 1; fi; \
+	fi
+	@if [ -f analysis/pyproject.toml ]; then \
+		[ -x $(VENV)/bin/python ] || $(PYTHON) -m venv $(VENV); \
+		$(VENV)/bin/pip install -q -e 'analysis[test]'; \
+	fi
+
+build:
+	$(CARGO) build --release --workspace --all-targets
+
+run:
+	$(CARGO) run --release -q -p edmd-core --example cooling
+
+lint:
+	$(CARGO) fmt --all -- --check
+	$(CARGO) clippy --workspace --all-targets -- -D warnings
+
+test-rust:
+	$(CARGO) test --workspace
+
+test-python:
+	@if [ -f analysis/pyproject.toml ]; then $(VENV)/bin/python -m pytest -q analysis; else echo "no analysis/ package yet: no Python tests"; fi
+
+bench-smoke:
+	$(CARGO) bench --bench calendar -- --quick --noplot
+	$(CARGO) run --release -q --bin edmd-bench -- --d 2 --n 10000 --phi 0.3 --repeats 1 --collisions-per-particle 5
+
+test: deps lint test-rust test-python bench-smoke
+
+# `make bench` runs the matrix; `make bench D=2 N=10000 PHI=0.3 [EPS=1]` runs one case and ends
+# with `collisions_per_s=<number> bytes_per_particle=<number>`.
+bench:
+ifdef N
+	$(CARGO) run --release -q --bin edmd-bench -- --d $(or $(D),2) --n $(N) --phi $(or $(PHI),0.3) --eps $(or $(EPS),1.0)
+else
+	$(CARGO) run --release -q --bin edmd-bench -- --matrix
+endif
+
+validate:
+	EDMD_VALIDATE=1 $(CARGO) test --release -p edmd-core --test equilibrium -- --nocapture --test-threads 1
+
+clean:
+	$(CARGO) clean
+	rm -rf $(VENV)
