@@ -13,10 +13,16 @@ fn bench(c: &mut Criterion) {
     for (d, phi) in [(2usize, 0.3), (3, 0.45)] {
         group.bench_function(BenchmarkId::new(format!("{d}d_phi{phi}"), n), |b| {
             if d == 2 {
-                let mut sim = InitParams::<2>::with_packing(n, phi).unwrap().build::<Periodic, _>(Elastic).unwrap();
+                let mut sim = InitParams::<2>::with_packing(n, phi)
+                    .unwrap()
+                    .build::<Periodic, _>(Elastic)
+                    .unwrap();
                 b.iter(|| sim.run(Stop::Tau(sim.tau() + per_particle)));
             } else {
-                let mut sim = InitParams::<3>::with_packing(n, phi).unwrap().build::<Periodic, _>(Elastic).unwrap();
+                let mut sim = InitParams::<3>::with_packing(n, phi)
+                    .unwrap()
+                    .build::<Periodic, _>(Elastic)
+                    .unwrap();
                 b.iter(|| sim.run(Stop::Tau(sim.tau() + per_particle)));
             }
         });

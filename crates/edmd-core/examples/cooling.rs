@@ -16,7 +16,10 @@ fn main() {
     let n: usize = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(4000);
     let phi: f64 = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(0.1);
     println!("edmd engine demo: free cooling of {n} disks at phi = {phi} (periodic), T/T0 against Haff's law\n");
-    println!("{:>5} {:>6} {:>12} {:>12} {:>8} {:>12}", "eps", "tau", "T/T0 (sim)", "T/T0 (Haff)", "ratio", "coll/s");
+    println!(
+        "{:>5} {:>6} {:>12} {:>12} {:>8} {:>12}",
+        "eps", "tau", "T/T0 (sim)", "T/T0 (Haff)", "ratio", "coll/s"
+    );
     for eps in [0.99, 0.9, 0.7] {
         let mut p = InitParams::<2>::with_packing(n, phi).expect("valid parameters");
         p.seed = 1;
@@ -33,7 +36,10 @@ fn main() {
         let rate = sim.counters().pair_collisions as f64 / start.elapsed().as_secs_f64();
         for (tau, t) in rows {
             let theory = (-k * tau).exp();
-            println!("{eps:>5} {tau:>6.1} {t:>12.5e} {theory:>12.5e} {:>8.4} {rate:>12.3e}", t / theory);
+            println!(
+                "{eps:>5} {tau:>6.1} {t:>12.5e} {theory:>12.5e} {:>8.4} {rate:>12.3e}",
+                t / theory
+            );
         }
         println!();
     }

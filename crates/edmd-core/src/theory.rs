@@ -113,11 +113,24 @@ mod tests {
     /// PHYSICS.md §2.3: k per τ_C in 2D, and 3D values.
     #[test]
     fn haff_rate_matches_reference_table() {
-        for (eps, k) in [(0.99, 0.01988), (0.9, 0.18873), (0.8, 0.35803), (0.6, 0.64620)] {
-            assert!((haff_rate(2, eps) - k).abs() < 1e-5, "eps {eps}: {}", haff_rate(2, eps));
+        for (eps, k) in [
+            (0.99, 0.01988),
+            (0.9, 0.18873),
+            (0.8, 0.35803),
+            (0.6, 0.64620),
+        ] {
+            assert!(
+                (haff_rate(2, eps) - k).abs() < 1e-5,
+                "eps {eps}: {}",
+                haff_rate(2, eps)
+            );
         }
         for (eps, k) in [(0.9, 0.12621), (0.6, 0.42922)] {
-            assert!((haff_rate(3, eps) - k).abs() < 1e-5, "eps {eps}: {}", haff_rate(3, eps));
+            assert!(
+                (haff_rate(3, eps) - k).abs() < 1e-5,
+                "eps {eps}: {}",
+                haff_rate(3, eps)
+            );
         }
     }
 

@@ -19,12 +19,19 @@ fn estimate(values: &[f64]) -> Estimate {
     let n = values.len() as f64;
     let mean = values.iter().sum::<f64>() / n;
     let var = values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0);
-    Estimate { mean, se: (var / n).sqrt() }
+    Estimate {
+        mean,
+        se: (var / n).sqrt(),
+    }
 }
 
 fn check<const D: usize>(phi: f64, tolerance: f64) {
     let full = std::env::var("EDMD_VALIDATE").is_ok_and(|v| v == "1");
-    let (n, tau) = if full { (10_000, 2000.0) } else { (4000, 1000.0) };
+    let (n, tau) = if full {
+        (10_000, 2000.0)
+    } else {
+        (4000, 1000.0)
+    };
     let mut p = InitParams::<D>::with_packing(n, phi).unwrap();
     p.seed = 42;
     let mut sim = p.build::<Periodic, _>(Elastic).unwrap();
@@ -35,7 +42,14 @@ fn check<const D: usize>(phi: f64, tolerance: f64) {
         let meter = VirialMeter::start(&sim);
         sim.run(Stop::Tau(sim.tau() + tau / blocks as f64));
         let r = meter.read(&sim);
-        from_nu.push(chi_from_frequency(D, phi, r.nu, 1.0, sim.temperature(), 1.0));
+        from_nu.push(chi_from_frequency(
+            D,
+            phi,
+            r.nu,
+            1.0,
+            sim.temperature(),
+            1.0,
+        ));
         from_z.push(chi_from_compressibility(D, phi, r.z));
     }
     let reference = chi(D, phi);
@@ -48,8 +62,17 @@ fn check<const D: usize>(phi: f64, tolerance: f64) {
             e.se,
             100.0 * dev
         );
-        assert!(e.se / reference < tolerance / 3.0, "statistical error too large for the test: {:e}", e.se);
-        assert!(dev.abs() < tolerance, "chi from {label} deviates by {:.3} % (tolerance {} %)", 100.0 * dev, 100.0 * tolerance);
+        assert!(
+            e.se / reference < tolerance / 3.0,
+            "statistical error too large for the test: {:e}",
+            e.se
+        );
+        assert!(
+            dev.abs() < tolerance,
+            "chi from {label} deviates by {:.3} % (tolerance {} %)",
+            100.0 * dev,
+            100.0 * tolerance
+        );
     }
 }
 
