@@ -35,7 +35,7 @@ fn bench(c: &mut Criterion) {
     let mut group = c.benchmark_group("calendar");
     let steps = 100_000;
     group.throughput(Throughput::Elements(steps as u64));
-    for n in [10_000usize, 1_000_000] {
+    for n in [10_000usize, 100_000, 1_000_000] {
         group.bench_with_input(BenchmarkId::new("paul", n), &n, |b, &n| {
             let (mut cal, mut rng) = setup::<PaulCalendar>(n, 1);
             b.iter(|| churn(&mut cal, &mut rng, n, steps))

@@ -87,8 +87,8 @@ fn measure<const D: usize>(
 }
 
 fn run_case(case: &Case, repeats: usize, per_particle: Option<f64>) -> Result<Outcome, String> {
-    // About 2·10^7 collisions per repeat at most, at least 20 per particle.
-    let per_particle = per_particle.unwrap_or_else(|| (2e7 / case.n as f64).clamp(2.0, 200.0));
+    // About 5·10^6 collisions per repeat (at least 2 and at most 200 per particle).
+    let per_particle = per_particle.unwrap_or_else(|| (5e6 / case.n as f64).clamp(2.0, 200.0));
     match case.d {
         2 => measure::<2>(case, repeats, per_particle),
         3 => measure::<3>(case, repeats, per_particle),
