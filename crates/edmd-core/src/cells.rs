@@ -1,6 +1,10 @@
 //! Cell list: a grid of cells no smaller than the largest particle diameter, with intrusive doubly
 //! linked member lists, so moving a particle between cells is O(1).
 //!
+//! The forward link of each member lives in the member itself ([`CellLink`]): walking a cell then
+//! reads one cache line per member instead of two. The grid keeps the cell heads and the backward
+//! links, which only removal needs.
+//!
 //! Membership changes only through cell-crossing events; a particle's cell is authoritative even when
 //! its lazily advanced position sits on the far side of a face by round-off.
 
@@ -24,8 +28,26 @@ pub struct CellGrid<const D: usize> {
     /// Offsets of the 3^(D−1) cells at offset −1 (index `2a`) or +1 (index `2a + 1`) along axis `a`.
     pub partial: Vec<Vec<isize>>,
     head: Vec<u32>,
-    next: Vec<u32>,
     prev: Vec<u32>,
+}
+
+/// A cell member that stores its forward link (the next member of its cell, or [`NONE`]).
+pub trait CellLink {
+    /// The next member of this member's cell.
+    fn link(&self) -> u32;
+    /// Sets the next member.
+    fn set_link(&mut self, next: u32);
+}
+
+impl CellLink for u32 {
+    #[inline(always)]
+    fn link(&self) -> u32 {
+        *self
+    }
+    #[inline(always)]
+    fn set_link(&mut self, next: u32) {
+        *self = next;
+    }
 }
 
 impl<const D: usize> CellGrid<D> {
@@ -92,7 +114,6 @@ impl<const D: usize> CellGrid<D> {
             full,
             partial,
             head: vec![NONE; total],
-            next: vec![NONE; particles],
             prev: vec![NONE; particles],
         })
     }
@@ -143,17 +164,11 @@ impl<const D: usize> CellGrid<D> {
         self.head[idx]
     }
 
-    /// Member after `i` in its cell, or [`NONE`].
-    #[inline(always)]
-    pub fn next(&self, i: u32) -> u32 {
-        self.next[i as usize]
-    }
-
-    /// Adds particle `i` to cell `idx`.
+    /// Adds member `i` of `items` to cell `idx`.
     #[inline]
-    pub fn insert(&mut self, i: u32, idx: usize) {
+    pub fn insert<T: CellLink>(&mut self, items: &mut [T], i: u32, idx: usize) {
         let h = self.head[idx];
-        self.next[i as usize] = h;
+        items[i as usize].set_link(h);
         self.prev[i as usize] = NONE;
         if h != NONE {
             self.prev[h as usize] = i;
@@ -161,15 +176,15 @@ impl<const D: usize> CellGrid<D> {
         self.head[idx] = i;
     }
 
-    /// Removes particle `i` from cell `idx` (which must hold it).
+    /// Removes member `i` of `items` from cell `idx` (which must hold it).
     #[inline]
-    pub fn remove(&mut self, i: u32, idx: usize) {
-        let (n, p) = (self.next[i as usize], self.prev[i as usize]);
+    pub fn remove<T: CellLink>(&mut self, items: &mut [T], i: u32, idx: usize) {
+        let (n, p) = (items[i as usize].link(), self.prev[i as usize]);
         if p == NONE {
             debug_assert_eq!(self.head[idx], i);
             self.head[idx] = n;
         } else {
-            self.next[p as usize] = n;
+            items[p as usize].set_link(n);
         }
         if n != NONE {
             self.prev[n as usize] = p;
@@ -183,7 +198,7 @@ impl<const D: usize> CellGrid<D> {
 
     /// Heap bytes held by the grid.
     pub fn heap_bytes(&self) -> usize {
-        4 * (self.head.capacity() + self.next.capacity() + self.prev.capacity())
+        4 * (self.head.capacity() + self.prev.capacity())
     }
 }
 
@@ -208,16 +223,18 @@ mod tests {
 
     #[test]
     fn insert_and_remove_keep_lists_consistent() {
-        let mut g = CellGrid::<2>::new(&vector![4.0, 4.0], 1.0, 1.0, 3).unwrap();
-        for i in 0..3 {
-            g.insert(i, 5);
+        let mut g = CellGrid::<2>::new(&vector![4.0, 4.0], 1.0, 1.0, 4).unwrap();
+        let mut links = vec![NONE; 4];
+        for i in 0..4 {
+            g.insert(&mut links, i, 5);
         }
-        g.remove(1, 5);
+        g.remove(&mut links, 1, 5);
+        g.remove(&mut links, 3, 5);
         let mut members = vec![];
         let mut k = g.first(5);
         while k != NONE {
             members.push(k);
-            k = g.next(k);
+            k = links[k as usize];
         }
         assert_eq!(members, vec![2, 0]);
     }

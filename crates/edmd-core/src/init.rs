@@ -255,6 +255,7 @@ fn random_positions<const D: usize, B: Boundary>(
     let mut order: Vec<usize> = (0..radii.len()).collect();
     order.sort_by(|&a, &b| radii[b].total_cmp(&radii[a]));
     let mut placed = vec![Vector::<D>::zeros(); radii.len()];
+    let mut links = vec![NONE; radii.len()];
     for (count, &i) in order.iter().enumerate() {
         let r = radii[i];
         let mut ok = false;
@@ -267,9 +268,10 @@ fn random_positions<const D: usize, B: Boundary>(
                     rng.random::<f64>() * box_len[a]
                 };
             }
-            if !overlaps_any::<D, B>(&grid, &placed, radii, box_len, &x, r) {
+            if !overlaps_any::<D, B>(&grid, &links, &placed, radii, box_len, &x, r) {
                 placed[i] = x;
-                grid.insert(i as u32, grid.index(&grid.coords_of(&x)));
+                let idx = grid.index(&grid.coords_of(&x));
+                grid.insert(&mut links, i as u32, idx);
                 ok = true;
                 break;
             }
@@ -287,6 +289,7 @@ fn random_positions<const D: usize, B: Boundary>(
 
 fn overlaps_any<const D: usize, B: Boundary>(
     grid: &CellGrid<D>,
+    links: &[u32],
     placed: &[Vector<D>],
     radii: &[f64],
     box_len: &Vector<D>,
@@ -324,7 +327,7 @@ fn overlaps_any<const D: usize, B: Boundary>(
             if dr.norm_squared() < s * s {
                 return true;
             }
-            k = grid.next(k);
+            k = links[k as usize];
         }
     }
     false

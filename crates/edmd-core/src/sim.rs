@@ -239,10 +239,10 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             particles: particles
                 .into_iter()
                 .map(|p| Particle {
-                    pos: p.pos,
+                    r0: p.pos,
                     vel: p.vel,
-                    t: 0.0,
                     radius: p.radius,
+                    next_in_cell: NONE,
                 })
                 .collect(),
             meta,
@@ -260,9 +260,10 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             _boundary: PhantomData,
         };
         for i in 0..n {
-            let c = sim.grid.coords_of(&sim.particles[i].pos);
+            let c = sim.grid.coords_of(&sim.particles[i].r0);
             sim.meta[i].cell = c;
-            sim.grid.insert(i as u32, sim.grid.index(&c));
+            let idx = sim.grid.index(&c);
+            sim.grid.insert(&mut sim.particles, i as u32, idx);
         }
         if let Some((i, j, overlap)) = sim.deepest_overlap().filter(|o| o.2 > 1e-12) {
             return Err(EdmdError::Overlap { i, j, overlap });
@@ -294,7 +295,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     /// Predicts every particle's event from scratch and sizes the calendar's buckets from them.
     pub fn restart_events(&mut self) {
         let n = self.particles.len();
-        self.sync();
+        self.rebase_clock();
         self.sort_by_cell();
         let mut sum = 0.0;
         let mut count = 0usize;
@@ -400,24 +401,26 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         self.grid.clear();
         for s in (0..n).rev() {
             let idx = self.grid.index(&self.meta[s].cell);
-            self.grid.insert(s as u32, idx);
+            self.grid.insert(&mut self.particles, s as u32, idx);
         }
     }
 
-    /// Moves every particle to the current time.
-    pub fn sync(&mut self) {
+    /// Moves the origin of the local clock to now: trajectories and pending event times are shifted,
+    /// the epoch absorbs the elapsed time. The caller rebuilds the calendar.
+    fn rebase_clock(&mut self) {
         let now = self.now;
-        for p in &mut self.particles {
-            p.pos += p.vel * (now - p.t);
-            p.t = now;
+        if now == 0.0 {
+            return;
         }
-    }
-
-    #[inline(always)]
-    fn advance(&mut self, i: usize) {
-        let p = &mut self.particles[i];
-        p.pos += p.vel * (self.now - p.t);
-        p.t = self.now;
+        for p in &mut self.particles {
+            p.r0 += p.vel * now;
+        }
+        for m in &mut self.meta {
+            m.ev.coll_t -= now;
+            m.ev.aux_t -= now;
+        }
+        self.epoch += now;
+        self.now = 0.0;
     }
 
     /// Processes the next event. Returns `None` when nothing will ever happen again (all at rest).
@@ -441,7 +444,6 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                 self.predict(j);
                 EventKind::Collision(self.meta[i].id, self.meta[j].id)
             } else {
-                self.advance(i);
                 self.predict(i);
                 EventKind::Stale(self.meta[i].id)
             }
@@ -489,6 +491,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     #[inline]
     fn search(&self, i: usize, only: Option<(usize, i32)>, mut best: (f64, u32)) -> (f64, u32) {
         let pi = self.particles[i];
+        let pos_i = pi.r0 + pi.vel * self.now;
         let ci = self.meta[i].cell;
         if self.grid.is_interior(&ci) {
             // Interior cell (the common case): fixed offsets, no periodic images.
@@ -498,7 +501,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                 Some((axis, dir)) => &self.grid.partial[2 * axis + (dir > 0) as usize],
             };
             for &o in offsets {
-                best = self.scan_cell((center + o) as usize, i, &pi, &pi.pos, best);
+                best = self.scan_cell((center + o) as usize, i, &pi, &pos_i, best);
             }
             return best;
         }
@@ -538,7 +541,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         let mut digit = [0usize; D];
         loop {
             let mut idx = 0;
-            let mut ri = pi.pos;
+            let mut ri = pos_i;
             for a in 0..D {
                 idx += lin[a][digit[a]];
                 ri[a] -= sh[a][digit[a]];
@@ -574,11 +577,11 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         let mut k = self.grid.first(idx);
         while k != NONE {
             let pk = &self.particles[k as usize];
-            let next = self.grid.next(k);
+            let next = pk.next_in_cell;
             if next != NONE {
                 crate::prefetch::prefetch(&self.particles[next as usize]);
             }
-            let dr = ri - pk.pos - pk.vel * (now - pk.t);
+            let dr = ri - (pk.r0 + pk.vel * now);
             let dv = pi.vel - pk.vel;
             let t = now + pair_time(&dr, &dv, pi.radius + pk.radius, vi2 + pk.vel.norm_squared());
             if t < best.0 && k as usize != i {
@@ -613,12 +616,15 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                     p.radius
                 };
                 (
-                    reach_time(p.pos[a], v, target),
+                    reach_time(p.r0[a] + v * self.now, v, target),
                     WALL | (a as u8) << 1 | up as u8,
                 )
             } else {
                 let face = (c[a] + up as u32) as f64 * self.grid.side[a];
-                (reach_time(p.pos[a], v, face), (a as u8) << 1 | up as u8)
+                (
+                    reach_time(p.r0[a] + v * self.now, v, face),
+                    (a as u8) << 1 | up as u8,
+                )
             };
             let t = self.now + dt;
             if t < best.0 {
@@ -631,16 +637,16 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     /// Applies the collision rule to the touching pair `(i, j)`.
     #[inline]
     fn collide(&mut self, i: usize, j: usize) {
-        self.advance(i);
-        self.advance(j);
         let (pi, pj) = (self.particles[i], self.particles[j]);
+        let now = self.now;
+        let (pos_i, pos_j) = (pi.r0 + pi.vel * now, pj.r0 + pj.vel * now);
         // The image of j nearest to i, and the separation written exactly as `search` writes it, so
         // that the approach test below and the prediction agree to the last bit: a pair found
         // approaching is treated as approaching, and one found receding is never predicted again.
-        let mut ri = pi.pos;
+        let mut ri = pos_i;
         for a in 0..D {
             if !B::is_wall(a) {
-                let d = pi.pos[a] - pj.pos[a];
+                let d = pos_i[a] - pos_j[a];
                 if d > self.half_box[a] {
                     ri[a] -= self.box_len[a];
                 } else if d < -self.half_box[a] {
@@ -648,7 +654,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                 }
             }
         }
-        let dr = ri - pj.pos;
+        let dr = ri - (pj.r0 + pj.vel * now);
         let dv = pi.vel - pj.vel;
         let b = dr.dot(&dv);
         if !approaching(
@@ -665,8 +671,15 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         let eps = self.rule.restitution(-gn);
         let (mi, mj) = (self.meta[i].mass, self.meta[j].mass);
         let impulse = -(1.0 + eps) * gn * (mi * mj / (mi + mj));
-        self.particles[i].vel += normal * (impulse / mi);
-        self.particles[j].vel -= normal * (impulse / mj);
+        // New velocities, and the trajectories' origins moved so that positions stay put at `now`.
+        let (vi, vj) = (
+            pi.vel + normal * (impulse / mi),
+            pj.vel - normal * (impulse / mj),
+        );
+        self.particles[i].vel = vi;
+        self.particles[i].r0 = pos_i - vi * now;
+        self.particles[j].vel = vj;
+        self.particles[j].r0 = pos_j - vj * now;
         self.meta[i].counter = self.meta[i].counter.wrapping_add(1);
         self.meta[j].counter = self.meta[j].counter.wrapping_add(1);
         self.counters.pair_collisions += 1;
@@ -676,9 +689,11 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     /// Specular reflection of particle `i` at a wall normal to `axis`.
     #[inline]
     fn wall(&mut self, i: usize, axis: usize) {
-        self.advance(i);
+        let now = self.now;
         let p = &mut self.particles[i];
+        let x = p.r0[axis] + p.vel[axis] * now;
         p.vel[axis] = -p.vel[axis];
+        p.r0[axis] = x - p.vel[axis] * now;
         self.meta[i].counter = self.meta[i].counter.wrapping_add(1);
         self.counters.wall_collisions += 1;
     }
@@ -686,7 +701,6 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     /// Moves particle `i` into the neighbouring cell along `axis` and searches the new neighbours.
     #[inline]
     fn cross(&mut self, i: usize, axis: usize, up: bool) {
-        self.advance(i);
         self.counters.crossings += 1;
         let old = self.grid.index(&self.meta[i].cell);
         let n = self.grid.n[axis] as u32;
@@ -695,17 +709,17 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             *c += 1;
             if *c == n {
                 *c = 0;
-                self.particles[i].pos[axis] -= self.box_len[axis];
+                self.particles[i].r0[axis] -= self.box_len[axis];
             }
         } else if *c == 0 {
             *c = n - 1;
-            self.particles[i].pos[axis] += self.box_len[axis];
+            self.particles[i].r0[axis] += self.box_len[axis];
         } else {
             *c -= 1;
         }
         let new = self.grid.index(&self.meta[i].cell);
-        self.grid.remove(i as u32, old);
-        self.grid.insert(i as u32, new);
+        self.grid.remove(&mut self.particles, i as u32, old);
+        self.grid.insert(&mut self.particles, i as u32, new);
         let e = self.meta[i].ev;
         let valid = e.partner != NONE && self.meta[e.partner as usize].counter == e.partner_count;
         let (t, partner) = if valid {
@@ -725,17 +739,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         let (events0, t0) = self.last_maintenance;
         let elapsed = self.now - t0;
         let count = self.counters.events - events0;
-        self.sync();
-        let shift = self.now;
-        for p in &mut self.particles {
-            p.t = 0.0;
-        }
-        for m in &mut self.meta {
-            m.ev.coll_t -= shift;
-            m.ev.aux_t -= shift;
-        }
-        self.epoch += shift;
-        self.now = 0.0;
+        self.rebase_clock();
         self.sort_by_cell();
         if elapsed > 0.0 && count > 0 {
             self.reschedule_all(EVENTS_PER_BUCKET * elapsed / count as f64);
@@ -834,7 +838,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
 
     fn position_of_slot(&self, s: usize) -> Vector<D> {
         let p = &self.particles[s];
-        let mut x = p.pos + p.vel * (self.now - p.t);
+        let mut x = p.r0 + p.vel * self.now;
         for a in 0..D {
             if !B::is_wall(a) {
                 x[a] = x[a].rem_euclid(self.box_len[a]);
@@ -845,7 +849,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
 
     /// Scales every velocity by `factor` and predicts all events again (e.g. to set a temperature).
     pub fn scale_velocities(&mut self, factor: f64) {
-        self.sync();
+        self.rebase_clock();
         for p in &mut self.particles {
             p.vel *= factor;
         }
@@ -905,7 +909,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                                 Some((self.meta[i].id as usize, self.meta[k_].id as usize, depth));
                         }
                     }
-                    k = self.grid.next(k);
+                    k = self.particles[k_].next_in_cell;
                 }
             }
         }
