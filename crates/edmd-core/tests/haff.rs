@@ -1,0 +1,93 @@
+//! Homogeneous cooling state against kinetic theory (PHYSICS.md §2.2–2.3): in periodic boxes of half
+//! the shear-critical size L⊥ (so that the state stays homogeneous), the decay rate −d ln T/dτ
+//! fitted over τ ∈ [5, 40] matches k(ε) within 2 %, averaged over seeds, and the speed kurtosis
+//! matches (d+2)/d·(1 + a₂) within 0.02.
+//!
+//! Dense (φ = 0.25) and strongly inelastic (ε = 0.6) cases are not here yet: below L⊥ they hold fewer
+//! than 100 particles, where finite-size corrections of several per cent appear (measured: −7 % at
+//! N = 80, +7 % at N = 15 for ε = 0.8, φ = 0.25); they need a finite-size analysis first.
+
+use edmd_core::theory::{a2, critical_sizes, haff_rate, Transport};
+use edmd_core::{ConstantRestitution, InitParams, Periodic, Schedule, Stop, Vector};
+
+/// Mean over seeds of the least-squares slope of ln T(τ) on τ ∈ [5, 40], and the mean kurtosis
+/// over the same window.
+fn decay<const D: usize>(eps: f64, phi: f64, n: usize, seeds: u64) -> (f64, f64, f64) {
+    let (mut slopes, mut kurt) = (Vec::new(), Vec::new());
+    for seed in 0..seeds {
+        let side = (n as f64 * edmd_core::init::unit_volume::<D>(0.5) / phi).powf(1.0 / D as f64);
+        let mut p = InitParams::<D>::in_box(n, Vector::<D>::repeat(side));
+        p.seed = 1000 + seed;
+        p.melt_tau = Some(5.0);
+        let mut sim = p
+            .build::<Periodic, _>(ConstantRestitution::new(eps).unwrap())
+            .unwrap();
+        let (mut xs, mut ys) = (Vec::new(), Vec::new());
+        sim.run_sampled(Stop::Tau(40.0), &Schedule::every(1.0), |s| {
+            if s.tau() >= 5.0 {
+                let o = s.observe();
+                xs.push(o.tau);
+                ys.push(o.temperature.ln());
+                kurt.push(o.kurtosis);
+            }
+        });
+        let (mx, my) = (
+            xs.iter().sum::<f64>() / xs.len() as f64,
+            ys.iter().sum::<f64>() / ys.len() as f64,
+        );
+        let sxy: f64 = xs.iter().zip(&ys).map(|(x, y)| (x - mx) * (y - my)).sum();
+        let sxx: f64 = xs.iter().map(|x| (x - mx).powi(2)).sum();
+        slopes.push(-sxy / sxx);
+    }
+    let m = slopes.iter().sum::<f64>() / slopes.len() as f64;
+    let se = (slopes.iter().map(|s| (s - m).powi(2)).sum::<f64>()
+        / (slopes.len() as f64 - 1.0)
+        / slopes.len() as f64)
+        .sqrt();
+    (m, se, kurt.iter().sum::<f64>() / kurt.len() as f64)
+}
+
+/// Box side L⊥/2 (Enskog), where the transverse modes are only mildly enhanced (S⊥ ≈ 4/3), or the
+/// side holding 2000 particles if smaller; ~4·10^4 particles over all seeds.
+fn check<const D: usize>(eps: f64, phi: f64, tolerance: f64) {
+    let (l_perp, _) = critical_sizes(D, eps, phi, 1.0, Transport::Enskog);
+    let side = 0.5 * l_perp;
+    let n =
+        ((phi * side.powi(D as i32) / edmd_core::init::unit_volume::<D>(0.5)) as usize).min(2000);
+    assert!(n >= 100, "box too small for a gas: N = {n}");
+    let seeds = (40_000 / n).clamp(4, 200) as u64;
+    let (k, se, kurtosis) = decay::<D>(eps, phi, n, seeds);
+    let theory = haff_rate(D, eps);
+    let dev = k / theory - 1.0;
+    println!(
+        "D = {D}, eps = {eps}, phi = {phi}: N = {n} x {seeds} seeds, fitted k = {k:.5} ± {se:.5}, theory {theory:.5} ({:+.2} %), kurtosis {kurtosis:.4} (theory {:.4})",
+        100.0 * dev,
+        (D as f64 + 2.0) / D as f64 * (1.0 + a2(D, eps))
+    );
+    assert!(
+        se / theory < tolerance / 3.0,
+        "statistical error too large: {se}"
+    );
+    assert!(
+        dev.abs() < tolerance,
+        "decay rate off by {:.2} %",
+        100.0 * dev
+    );
+    let kurtosis_theory = (D as f64 + 2.0) / D as f64 * (1.0 + a2(D, eps));
+    assert!(
+        (kurtosis - kurtosis_theory).abs() < 0.02,
+        "kurtosis {kurtosis} vs {kurtosis_theory}"
+    );
+}
+
+#[test]
+fn disks_dilute() {
+    check::<2>(0.99, 0.05, 0.02);
+    check::<2>(0.9, 0.05, 0.02);
+    check::<2>(0.8, 0.05, 0.02);
+}
+
+#[test]
+fn spheres_eps_0_9() {
+    check::<3>(0.9, 0.1, 0.02);
+}
