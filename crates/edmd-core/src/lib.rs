@@ -44,7 +44,10 @@ pub type Vector<const D: usize> = nalgebra::SVector<f64, D>;
 pub use boundary::{Axes, Boundary, Channel, Periodic, Walls};
 pub use calendar::{Calendar, HeapCalendar, PaulCalendar};
 pub use cells::CellGrid;
-pub use collide::{CollisionRule, ConstantRestitution, Elastic};
+pub use collide::{
+    CollisionRule, ConstantRestitution, Elastic, ThesisRestitution, ThresholdRestitution,
+    Viscoelastic,
+};
 pub use error::EdmdError;
 pub use init::{InitParams, Placement, Velocities};
 pub use observe::{Observables, Schedule, VirialMeter, VirialReading};

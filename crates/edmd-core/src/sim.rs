@@ -93,6 +93,8 @@ pub struct SimParams {
     pub cell_factor: f64,
     /// Events between rebasing the clock and re-tuning the calendar, per particle (default 8).
     pub rebase_events_per_particle: f64,
+    /// Normal restitution of particle–wall collisions, in [0, 1] (default 1: elastic walls).
+    pub wall_epsilon: f64,
 }
 
 impl Default for SimParams {
@@ -100,6 +102,7 @@ impl Default for SimParams {
         SimParams {
             cell_factor: 1.0,
             rebase_events_per_particle: 8.0,
+            wall_epsilon: 1.0,
         }
     }
 }
@@ -173,6 +176,13 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                 "cell_factor",
                 params.cell_factor,
                 "must be ≥ 1",
+            ));
+        }
+        if !(0.0..=1.0).contains(&params.wall_epsilon) {
+            return Err(EdmdError::invalid(
+                "wall_epsilon",
+                params.wall_epsilon,
+                "restitution must lie in [0, 1]",
             ));
         }
         if !(params.rebase_events_per_particle > 0.0) {
@@ -668,9 +678,11 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         let dist = dr.norm();
         let normal = dr / dist;
         let gn = b / dist;
-        let eps = self.rule.restitution(-gn);
         let (mi, mj) = (self.meta[i].mass, self.meta[j].mass);
-        let impulse = -(1.0 + eps) * gn * (mi * mj / (mi + mj));
+        let m_eff = mi * mj / (mi + mj);
+        let r_eff = pi.radius * pj.radius / (pi.radius + pj.radius);
+        let eps = self.rule.restitution(-gn, m_eff, r_eff);
+        let impulse = -(1.0 + eps) * gn * m_eff;
         // New velocities, and the trajectories' origins moved so that positions stay put at `now`.
         let (vi, vj) = (
             pi.vel + normal * (impulse / mi),
@@ -686,13 +698,13 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         self.counters.virial += impulse * dist;
     }
 
-    /// Specular reflection of particle `i` at a wall normal to `axis`.
+    /// Specular reflection of particle `i` at a wall normal to `axis`, with the wall's restitution.
     #[inline]
     fn wall(&mut self, i: usize, axis: usize) {
         let now = self.now;
         let p = &mut self.particles[i];
         let x = p.r0[axis] + p.vel[axis] * now;
-        p.vel[axis] = -p.vel[axis];
+        p.vel[axis] = -self.params.wall_epsilon * p.vel[axis];
         p.r0[axis] = x - p.vel[axis] * now;
         self.meta[i].counter = self.meta[i].counter.wrapping_add(1);
         self.counters.wall_collisions += 1;
