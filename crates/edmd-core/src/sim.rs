@@ -704,7 +704,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         let now = self.now;
         let p = &mut self.particles[i];
         let x = p.r0[axis] + p.vel[axis] * now;
-        p.vel[axis] = -self.params.wall_epsilon * p.vel[axis];
+        p.vel[axis] *= -self.params.wall_epsilon;
         p.r0[axis] = x - p.vel[axis] * now;
         self.meta[i].counter = self.meta[i].counter.wrapping_add(1);
         self.counters.wall_collisions += 1;
