@@ -18,9 +18,28 @@ use std::fmt::Debug;
 
 /// A normal-restitution law.
 pub trait CollisionRule: Clone + Debug + Send + Sync + 'static {
+    /// Per-particle memory of the rule: `()` (no memory, no cost) for laws of the impact alone; the
+    /// time of the last collision for the TC model.
+    type State: Copy + Default + Debug + Send + Sync + 'static;
+
     /// Restitution coefficient for a collision with normal approach speed `vn > 0` (physical units)
     /// between particles of reduced mass `m_eff` and reduced radius `r_eff = r_i r_j/(r_i + r_j)`.
     fn restitution(&self, vn: f64, m_eff: f64, r_eff: f64) -> f64;
+
+    /// The restitution of a collision at physical time `t` between particles whose rule states are
+    /// `si` and `sj`, updating them. Rules without memory use [`Self::restitution`].
+    #[inline(always)]
+    fn restitution_at(
+        &self,
+        vn: f64,
+        m_eff: f64,
+        r_eff: f64,
+        _t: f64,
+        _si: &mut Self::State,
+        _sj: &mut Self::State,
+    ) -> f64 {
+        self.restitution(vn, m_eff, r_eff)
+    }
 }
 
 /// Elastic collisions (ε = 1), the equilibrium hard-sphere gas.
@@ -28,6 +47,8 @@ pub trait CollisionRule: Clone + Debug + Send + Sync + 'static {
 pub struct Elastic;
 
 impl CollisionRule for Elastic {
+    type State = ();
+
     #[inline(always)]
     fn restitution(&self, _vn: f64, _m: f64, _r: f64) -> f64 {
         1.0
@@ -79,6 +100,8 @@ impl ConstantRestitution {
 }
 
 impl CollisionRule for ConstantRestitution {
+    type State = ();
+
     #[inline(always)]
     fn restitution(&self, _vn: f64, _m: f64, _r: f64) -> f64 {
         self.epsilon
@@ -106,6 +129,8 @@ impl ThresholdRestitution {
 }
 
 impl CollisionRule for ThresholdRestitution {
+    type State = ();
+
     #[inline(always)]
     fn restitution(&self, vn: f64, _m: f64, _r: f64) -> f64 {
         if vn < self.delta {
@@ -141,6 +166,8 @@ impl ThesisRestitution {
 }
 
 impl CollisionRule for ThesisRestitution {
+    type State = ();
+
     #[inline]
     fn restitution(&self, vn: f64, _m: f64, _r: f64) -> f64 {
         let x = vn / self.v0;
@@ -236,10 +263,76 @@ impl Viscoelastic {
 }
 
 impl CollisionRule for Viscoelastic {
+    type State = ();
+
     #[inline]
     fn restitution(&self, vn: f64, m_eff: f64, r_eff: f64) -> f64 {
         let x = self.damping * self.kappa(m_eff, r_eff).powf(0.4) * vn.powf(0.2);
         (1.0 - VISCOELASTIC_C1 * x + VISCOELASTIC_C2 * x * x).clamp(0.0, 1.0)
+    }
+}
+
+/// The TC model (Luding & McNamara, Granular Matter 1, 113 (1998)): a collision is dissipative
+/// only if both partners' previous collisions happened more than `t_c` ago; otherwise it is elastic.
+/// `t_c` stands for the duration of a real contact and must be ≪ the mean free time. Composes with
+/// any rule; its state is each particle's last collision time (physical time).
+#[derive(Debug, Clone, Copy)]
+pub struct TcModel<R> {
+    inner: R,
+    tc: f64,
+}
+
+impl<R: CollisionRule> TcModel<R> {
+    /// `inner` applied only when both partners have been free for at least `tc` (> 0).
+    pub fn new(inner: R, tc: f64) -> Result<Self, EdmdError> {
+        Ok(TcModel {
+            inner,
+            tc: check_positive("t_c", tc)?,
+        })
+    }
+
+    /// The contact duration t_c.
+    pub fn tc(&self) -> f64 {
+        self.tc
+    }
+}
+
+/// Last collision time of a particle under the TC model (−∞ before the first).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LastCollision(pub f64);
+
+impl Default for LastCollision {
+    fn default() -> Self {
+        LastCollision(f64::NEG_INFINITY)
+    }
+}
+
+impl<R: CollisionRule<State = ()>> CollisionRule for TcModel<R> {
+    type State = LastCollision;
+
+    #[inline(always)]
+    fn restitution(&self, vn: f64, m_eff: f64, r_eff: f64) -> f64 {
+        self.inner.restitution(vn, m_eff, r_eff)
+    }
+
+    #[inline]
+    fn restitution_at(
+        &self,
+        vn: f64,
+        m_eff: f64,
+        r_eff: f64,
+        t: f64,
+        si: &mut LastCollision,
+        sj: &mut LastCollision,
+    ) -> f64 {
+        let fresh = t - si.0 >= self.tc && t - sj.0 >= self.tc;
+        si.0 = t;
+        sj.0 = t;
+        if fresh {
+            self.inner.restitution(vn, m_eff, r_eff)
+        } else {
+            1.0
+        }
     }
 }
 
@@ -263,6 +356,24 @@ mod tests {
             .unwrap_err()
             .to_string()
             .contains("poisson"));
+    }
+
+    #[test]
+    fn tc_model_is_elastic_within_tc() {
+        let r = TcModel::new(ConstantRestitution::new(0.5).unwrap(), 1e-3).unwrap();
+        let (mut a, mut b, mut c) = (
+            LastCollision::default(),
+            LastCollision::default(),
+            LastCollision::default(),
+        );
+        assert_eq!(r.restitution_at(1.0, 0.5, 0.25, 1.0, &mut a, &mut b), 0.5);
+        // a collided at t = 1: within t_c any collision of a is elastic, whoever the partner.
+        assert_eq!(
+            r.restitution_at(1.0, 0.5, 0.25, 1.0005, &mut a, &mut c),
+            1.0
+        );
+        assert_eq!(r.restitution_at(1.0, 0.5, 0.25, 1.002, &mut b, &mut c), 0.5);
+        assert!(TcModel::new(Elastic, 0.0).is_err());
     }
 
     #[test]

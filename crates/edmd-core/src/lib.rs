@@ -45,11 +45,11 @@ pub use boundary::{Axes, Boundary, Channel, Periodic, Walls};
 pub use calendar::{Calendar, HeapCalendar, PaulCalendar};
 pub use cells::CellGrid;
 pub use collide::{
-    CollisionRule, ConstantRestitution, Elastic, ThesisRestitution, ThresholdRestitution,
-    Viscoelastic,
+    CollisionRule, ConstantRestitution, Elastic, LastCollision, TcModel, ThesisRestitution,
+    ThresholdRestitution, Viscoelastic,
 };
 pub use error::EdmdError;
 pub use init::{InitParams, Placement, Velocities};
 pub use observe::{Observables, Schedule, VirialMeter, VirialReading};
-pub use sim::{Counters, EventKind, RunEnd, SimParams, Simulation, Stop};
+pub use sim::{Collapse, CollapseReason, Counters, EventKind, RunEnd, SimParams, Simulation, Stop};
 pub use state::{Particle, ParticleInit};

@@ -57,6 +57,48 @@ pub(crate) struct Meta<const D: usize> {
     pub cell: [u32; D],
 }
 
+/// Inelastic collapse: infinitely many collisions in a finite time (PHYSICS.md §6.4).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Collapse {
+    /// Physical time when it was detected.
+    pub time: f64,
+    /// τ = C/N when it was detected.
+    pub tau: f64,
+    /// Which criterion fired.
+    pub reason: CollapseReason,
+}
+
+/// The collapse criteria of PHYSICS.md §6.4.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CollapseReason {
+    /// The clock advanced by less than 1e-10 of its value over 10 N pair collisions.
+    ClockStalled,
+    /// The same pair collided more than 100 times with no other collision in between.
+    RepeatedPair,
+}
+
+/// State of the collapse monitor.
+#[derive(Debug, Clone, Copy)]
+struct CollapseMonitor {
+    pair: (u32, u32),
+    repeats: u32,
+    next_check: u64,
+    check_time: f64,
+    found: Option<Collapse>,
+}
+
+impl Default for CollapseMonitor {
+    fn default() -> Self {
+        CollapseMonitor {
+            pair: (NONE, NONE),
+            repeats: 0,
+            next_check: 0,
+            check_time: 0.0,
+            found: None,
+        }
+    }
+}
+
 /// What an event was, with original particle indices.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum EventKind {
@@ -132,6 +174,8 @@ pub struct Simulation<const D: usize, B: Boundary, R: CollisionRule, C: Calendar
     pub(crate) particles: Vec<Particle<D>>,
     /// Per-particle bookkeeping, touched when the particle itself has an event.
     pub(crate) meta: Vec<Meta<D>>,
+    /// Per-particle memory of the collision rule (zero-sized, so free, for memoryless rules).
+    pub(crate) rule_state: Vec<R::State>,
     pub(crate) grid: CellGrid<D>,
     pub(crate) calendar: C,
     pub(crate) rule: R,
@@ -141,6 +185,7 @@ pub struct Simulation<const D: usize, B: Boundary, R: CollisionRule, C: Calendar
     pub(crate) epoch: f64,
     pub(crate) counters: Counters,
     params: SimParams,
+    monitor: CollapseMonitor,
     next_maintenance: u64,
     last_maintenance: (u64, f64),
     _boundary: PhantomData<B>,
@@ -256,6 +301,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                 })
                 .collect(),
             meta,
+            rule_state: vec![R::State::default(); n],
             grid,
             calendar: C::with_capacity(n),
             rule,
@@ -265,6 +311,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             epoch: 0.0,
             counters: Counters::default(),
             params,
+            monitor: CollapseMonitor::default(),
             next_maintenance: 0,
             last_maintenance: (0, 0.0),
             _boundary: PhantomData,
@@ -286,6 +333,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     pub fn with_rule<R2: CollisionRule>(self, rule: R2) -> Simulation<D, B, R2, C> {
         Simulation {
             particles: self.particles,
+            rule_state: vec![R2::State::default(); self.meta.len()],
             meta: self.meta,
             grid: self.grid,
             calendar: self.calendar,
@@ -296,6 +344,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             epoch: self.epoch,
             counters: self.counters,
             params: self.params,
+            monitor: self.monitor,
             next_maintenance: self.next_maintenance,
             last_maintenance: self.last_maintenance,
             _boundary: PhantomData,
@@ -403,6 +452,9 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         let mut done = vec![false; n];
         permute(&mut self.particles, &perm, &mut done);
         permute(&mut self.meta, &perm, &mut done);
+        if std::mem::size_of::<R::State>() > 0 {
+            permute(&mut self.rule_state, &perm, &mut done);
+        }
         for m in &mut self.meta {
             if m.ev.partner != NONE {
                 m.ev.partner = inv[m.ev.partner as usize];
@@ -452,6 +504,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                 self.collide(i, j);
                 self.predict(i);
                 self.predict(j);
+                self.watch_collapse(i as u32, j as u32);
                 EventKind::Collision(self.meta[i].id, self.meta[j].id)
             } else {
                 self.predict(i);
@@ -460,6 +513,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         } else if e.aux & WALL != 0 {
             self.wall(i, (e.aux & 0x7f) as usize >> 1);
             self.predict(i);
+            self.monitor.pair = (NONE, NONE);
             EventKind::Wall(self.meta[i].id)
         } else {
             self.cross(i, (e.aux >> 1) as usize, e.aux & 1 != 0);
@@ -469,6 +523,46 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             self.maintenance();
         }
         Some(kind)
+    }
+
+    /// The collapse criteria of PHYSICS.md §6.4, after a pair collision of slots `i` and `j`.
+    #[inline]
+    fn watch_collapse(&mut self, i: u32, j: u32) {
+        let pair = (i.min(j), i.max(j));
+        let m = &mut self.monitor;
+        if pair == m.pair {
+            m.repeats += 1;
+            if m.repeats > 100 && m.found.is_none() {
+                m.found = Some(Collapse {
+                    time: self.epoch + self.now,
+                    tau: 0.0,
+                    reason: CollapseReason::RepeatedPair,
+                });
+            }
+        } else {
+            m.pair = pair;
+            m.repeats = 0;
+        }
+        if self.counters.pair_collisions >= m.next_check {
+            let t = self.epoch + self.now;
+            if m.next_check > 0 && t - m.check_time < 1e-10 * t.abs() && m.found.is_none() {
+                m.found = Some(Collapse {
+                    time: t,
+                    tau: 0.0,
+                    reason: CollapseReason::ClockStalled,
+                });
+            }
+            m.next_check = self.counters.pair_collisions + 10 * self.particles.len() as u64;
+            m.check_time = t;
+        }
+        if let Some(c) = &mut m.found {
+            c.tau = self.counters.pair_collisions as f64 / self.particles.len() as f64;
+        }
+    }
+
+    /// The inelastic collapse detected so far, if any; runs stop with [`RunEnd::Collapsed`].
+    pub fn collapse(&self) -> Option<Collapse> {
+        self.monitor.found
     }
 
     /// Full prediction for particle `i` (already advanced to now), then reschedule it.
@@ -681,7 +775,16 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         let (mi, mj) = (self.meta[i].mass, self.meta[j].mass);
         let m_eff = mi * mj / (mi + mj);
         let r_eff = pi.radius * pj.radius / (pi.radius + pj.radius);
-        let eps = self.rule.restitution(-gn, m_eff, r_eff);
+        let (si, sj) = if i < j {
+            let (lo, hi) = self.rule_state.split_at_mut(j);
+            (&mut lo[i], &mut hi[0])
+        } else {
+            let (lo, hi) = self.rule_state.split_at_mut(i);
+            (&mut hi[0], &mut lo[j])
+        };
+        let eps = self
+            .rule
+            .restitution_at(-gn, m_eff, r_eff, self.epoch + now, si, sj);
         let impulse = -(1.0 + eps) * gn * m_eff;
         // New velocities, and the trajectories' origins moved so that positions stay put at `now`.
         let (vi, vj) = (
@@ -947,17 +1050,25 @@ pub enum RunEnd {
     Reached,
     /// No event is left (every particle at rest).
     Exhausted,
+    /// Inelastic collapse was detected (see [`Simulation::collapse`]).
+    Collapsed,
 }
 
 impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B, R, C> {
     /// Runs until `stop`.
     pub fn run(&mut self, stop: Stop) -> RunEnd {
+        if self.monitor.found.is_some() {
+            return RunEnd::Collapsed;
+        }
         match stop {
             Stop::Tau(tau) => {
                 let target = (tau * self.len() as f64).ceil().max(0.0) as u64;
                 while self.counters.pair_collisions < target {
                     if self.step().is_none() {
                         return RunEnd::Exhausted;
+                    }
+                    if self.monitor.found.is_some() {
+                        return RunEnd::Collapsed;
                     }
                 }
             }
@@ -967,6 +1078,9 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                     if self.step().is_none() {
                         return RunEnd::Exhausted;
                     }
+                    if self.monitor.found.is_some() {
+                        return RunEnd::Collapsed;
+                    }
                 }
             }
             Stop::Time(t) => loop {
@@ -974,6 +1088,9 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                 match self.calendar.peek_time() {
                     Some(next) if next <= local => {
                         self.step();
+                        if self.monitor.found.is_some() {
+                            return RunEnd::Collapsed;
+                        }
                     }
                     Some(_) => {
                         self.now = local.max(self.now);
@@ -1027,6 +1144,9 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             }
             if self.step().is_none() {
                 return RunEnd::Exhausted;
+            }
+            if self.monitor.found.is_some() {
+                return RunEnd::Collapsed;
             }
         }
     }
