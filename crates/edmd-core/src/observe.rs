@@ -23,6 +23,8 @@ pub struct Observables<const D: usize> {
     pub kinetic_energy: f64,
     /// Granular temperature m⟨v²⟩/d.
     pub temperature: f64,
+    /// ln of the temperature, finite however deep the cooling.
+    pub ln_temperature: f64,
     /// Total momentum.
     pub momentum: Vector<D>,
     /// Σ m|v|, the scale against which momentum conservation is judged.
@@ -32,8 +34,8 @@ pub struct Observables<const D: usize> {
 }
 
 impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B, R, C> {
-    /// Total kinetic energy.
-    pub fn kinetic_energy(&self) -> f64 {
+    /// Kinetic energy in the simulation's (deep-cooling-scaled) units.
+    fn simulated_kinetic_energy(&self) -> f64 {
         self.particles
             .iter()
             .zip(&self.meta)
@@ -41,9 +43,30 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             .sum()
     }
 
-    /// Granular temperature `T = Σ m v² / (d N)`.
+    /// Temperature in the simulation's (deep-cooling-scaled) units.
+    pub(crate) fn simulated_temperature(&self) -> f64 {
+        2.0 * self.simulated_kinetic_energy() / (D as f64 * self.len() as f64)
+    }
+
+    /// Total kinetic energy (physical units; underflows to 0 below ~1e-308, see
+    /// [`Self::ln_temperature`]).
+    pub fn kinetic_energy(&self) -> f64 {
+        self.simulated_kinetic_energy() * self.inv_scale * self.inv_scale
+    }
+
+    /// Granular temperature `T = Σ m v² / (d N)` (physical units).
     pub fn temperature(&self) -> f64 {
-        2.0 * self.kinetic_energy() / (D as f64 * self.len() as f64)
+        self.simulated_temperature() * self.inv_scale * self.inv_scale
+    }
+
+    /// ln T in physical units, finite however deep the cooling.
+    pub fn ln_temperature(&self) -> f64 {
+        self.simulated_temperature().ln() - 2.0 * self.ln_scale
+    }
+
+    /// ln of the deep-cooling factor: simulated velocities are the physical ones times its exponential.
+    pub fn ln_velocity_scale(&self) -> f64 {
+        self.ln_scale
     }
 
     /// All bulk observables at the current time.
@@ -59,15 +82,17 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             v4 += s2 * s2;
         }
         let n = self.len() as f64;
+        let s = self.inv_scale;
         Observables {
             time: self.time(),
             tau: self.tau(),
             pair_collisions: self.counters.pair_collisions,
             wall_collisions: self.counters.wall_collisions,
-            kinetic_energy: ke,
-            temperature: 2.0 * ke / (D as f64 * n),
-            momentum,
-            momentum_scale: scale,
+            kinetic_energy: ke * s * s,
+            temperature: 2.0 * ke / (D as f64 * n) * s * s,
+            ln_temperature: (2.0 * ke / (D as f64 * n)).ln() - 2.0 * self.ln_scale,
+            momentum: momentum * s,
+            momentum_scale: scale * s,
             kurtosis: if v2 > 0.0 {
                 (v4 / n) / (v2 / n).powi(2)
             } else {

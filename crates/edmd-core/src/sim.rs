@@ -137,6 +137,10 @@ pub struct SimParams {
     pub rebase_events_per_particle: f64,
     /// Normal restitution of particle–wall collisions, in [0, 1] (default 1: elastic walls).
     pub wall_epsilon: f64,
+    /// Deep cooling: when the simulated temperature falls below this fraction of its starting value
+    /// (checked every rebase), all velocities are scaled back up and the factor is tracked
+    /// (default 1e-4; 0 disables). Reported quantities stay in physical units.
+    pub rescale_below: f64,
 }
 
 impl Default for SimParams {
@@ -145,6 +149,7 @@ impl Default for SimParams {
             cell_factor: 1.0,
             rebase_events_per_particle: 8.0,
             wall_epsilon: 1.0,
+            rescale_below: 1e-4,
         }
     }
 }
@@ -182,7 +187,16 @@ pub struct Simulation<const D: usize, B: Boundary, R: CollisionRule, C: Calendar
     pub(crate) box_len: Vector<D>,
     pub(crate) half_box: Vector<D>,
     pub(crate) now: f64,
+    /// Simulated time of the local clock's origin, in the current velocity units.
     pub(crate) epoch: f64,
+    /// Deep cooling: simulated velocities are the physical ones times `exp(ln_scale)`.
+    pub(crate) ln_scale: f64,
+    /// `exp(−ln_scale)`: converts simulated speeds to physical ones.
+    pub(crate) inv_scale: f64,
+    /// `exp(ln_scale)`: converts simulated times to physical ones (∞ beyond 1e308).
+    scale: f64,
+    /// Simulated temperature to which the velocities are rescaled.
+    t_ref: f64,
     pub(crate) counters: Counters,
     params: SimParams,
     monitor: CollapseMonitor,
@@ -228,6 +242,13 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                 "wall_epsilon",
                 params.wall_epsilon,
                 "restitution must lie in [0, 1]",
+            ));
+        }
+        if !(params.rescale_below >= 0.0 && params.rescale_below < 1.0) {
+            return Err(EdmdError::invalid(
+                "rescale_below",
+                params.rescale_below,
+                "must lie in [0, 1)",
             ));
         }
         if !(params.rebase_events_per_particle > 0.0) {
@@ -309,6 +330,10 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             half_box: box_len / 2.0,
             now: 0.0,
             epoch: 0.0,
+            ln_scale: 0.0,
+            inv_scale: 1.0,
+            scale: 1.0,
+            t_ref: 0.0,
             counters: Counters::default(),
             params,
             monitor: CollapseMonitor::default(),
@@ -342,6 +367,10 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             half_box: self.half_box,
             now: self.now,
             epoch: self.epoch,
+            ln_scale: self.ln_scale,
+            inv_scale: self.inv_scale,
+            scale: self.scale,
+            t_ref: self.t_ref,
             counters: self.counters,
             params: self.params,
             monitor: self.monitor,
@@ -529,12 +558,13 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     #[inline]
     fn watch_collapse(&mut self, i: u32, j: u32) {
         let pair = (i.min(j), i.max(j));
+        let t = self.time();
         let m = &mut self.monitor;
         if pair == m.pair {
             m.repeats += 1;
             if m.repeats > 100 && m.found.is_none() {
                 m.found = Some(Collapse {
-                    time: self.epoch + self.now,
+                    time: t,
                     tau: 0.0,
                     reason: CollapseReason::RepeatedPair,
                 });
@@ -544,7 +574,6 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             m.repeats = 0;
         }
         if self.counters.pair_collisions >= m.next_check {
-            let t = self.epoch + self.now;
             if m.next_check > 0 && t - m.check_time < 1e-10 * t.abs() && m.found.is_none() {
                 m.found = Some(Collapse {
                     time: t,
@@ -775,6 +804,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         let (mi, mj) = (self.meta[i].mass, self.meta[j].mass);
         let m_eff = mi * mj / (mi + mj);
         let r_eff = pi.radius * pj.radius / (pi.radius + pj.radius);
+        let t_phys = self.time();
         let (si, sj) = if i < j {
             let (lo, hi) = self.rule_state.split_at_mut(j);
             (&mut lo[i], &mut hi[0])
@@ -784,7 +814,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         };
         let eps = self
             .rule
-            .restitution_at(-gn, m_eff, r_eff, self.epoch + now, si, sj);
+            .restitution_at(-gn * self.inv_scale, m_eff, r_eff, t_phys, si, sj);
         let impulse = -(1.0 + eps) * gn * m_eff;
         // New velocities, and the trajectories' origins moved so that positions stay put at `now`.
         let (vi, vj) = (
@@ -798,7 +828,8 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         self.meta[i].counter = self.meta[i].counter.wrapping_add(1);
         self.meta[j].counter = self.meta[j].counter.wrapping_add(1);
         self.counters.pair_collisions += 1;
-        self.counters.virial += impulse * dist;
+        // Physical momentum transfer (the simulated one carries the deep-cooling scale).
+        self.counters.virial += impulse * dist * self.inv_scale;
     }
 
     /// Specular reflection of particle `i` at a wall normal to `axis`, with the wall's restitution.
@@ -849,8 +880,49 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         self.store(i, t, partner);
     }
 
+    /// Simulated local time at physical time `t`.
+    fn local_time_of(&self, t: f64) -> f64 {
+        t * self.inv_scale - self.epoch
+    }
+
+    /// Deep cooling: if the simulated temperature fell below `rescale_below` of the reference, scales
+    /// every velocity back up to it and records the factor, so that T/T0 = 1e-300 and beyond is
+    /// reached without underflow. The caller predicts all events again.
+    fn rescale_if_cold(&mut self) -> bool {
+        if self.params.rescale_below <= 0.0 {
+            return false;
+        }
+        let sim_t = self.simulated_temperature();
+        if self.t_ref == 0.0 {
+            self.t_ref = sim_t;
+            return false;
+        }
+        if !(sim_t > 0.0) || sim_t >= self.params.rescale_below * self.t_ref {
+            return false;
+        }
+        let factor = (self.t_ref / sim_t).sqrt();
+        self.rebase_clock();
+        for p in &mut self.particles {
+            p.vel *= factor;
+        }
+        for m in &mut self.meta {
+            m.counter = m.counter.wrapping_add(1);
+        }
+        self.epoch /= factor;
+        self.ln_scale += factor.ln();
+        self.inv_scale = (-self.ln_scale).exp();
+        self.scale = self.ln_scale.exp();
+        // The monitor's clock check compares simulated times; restart it in the new units.
+        self.monitor.next_check = 0;
+        true
+    }
+
     /// Rebases the clock to zero and re-tunes the calendar to the current event rate.
     fn maintenance(&mut self) {
+        if self.rescale_if_cold() {
+            self.restart_events();
+            return;
+        }
         let (events0, t0) = self.last_maintenance;
         let elapsed = self.now - t0;
         let count = self.counters.events - events0;
@@ -877,9 +949,15 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         self.particles.is_empty()
     }
 
-    /// Physical time since the start.
+    /// Physical time since the start (overflows to ∞ only beyond 1e308 under extreme deep cooling).
     pub fn time(&self) -> f64 {
-        self.epoch + self.now
+        (self.epoch + self.now) * self.scale
+    }
+
+    /// ln of the physical time, finite however deep the cooling (the time itself overflows to ∞
+    /// beyond 1e308).
+    pub fn ln_time(&self) -> f64 {
+        (self.epoch + self.now).ln() + self.ln_scale
     }
 
     /// Pair collisions per particle, τ = C/N.
@@ -943,7 +1021,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
 
     /// Velocities, in the original particle order.
     pub fn velocities(&self) -> Vec<Vector<D>> {
-        self.in_original_order(|s| self.particles[s].vel)
+        self.in_original_order(|s| self.particles[s].vel * self.inv_scale)
     }
 
     /// Positions at the current time, wrapped into the box on periodic axes, in the original order.
@@ -1084,7 +1162,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                 }
             }
             Stop::Time(t) => loop {
-                let local = t - self.epoch;
+                let local = self.local_time_of(t);
                 match self.calendar.peek_time() {
                     Some(next) if next <= local => {
                         self.step();
@@ -1132,9 +1210,9 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                 Stop::Tau(t) => self.counters.pair_collisions as f64 >= (t * n).ceil(),
                 Stop::Events(_) => self.counters.events >= event_target,
                 Stop::Time(t) => match self.calendar.peek_time() {
-                    Some(next_t) if next_t <= t - self.epoch => false,
+                    Some(next_t) if next_t <= self.local_time_of(t) => false,
                     _ => {
-                        self.now = (t - self.epoch).max(self.now);
+                        self.now = self.local_time_of(t).max(self.now);
                         true
                     }
                 },
