@@ -4,7 +4,7 @@
 
 use edmd_core::{
     Boundary, Channel, CollisionRule, ConstantRestitution, Elastic, InitParams, Periodic,
-    Placement, Simulation, Stop, Walls,
+    Placement, RunEnd, Simulation, Stop, Walls,
 };
 
 fn check<const D: usize, B: Boundary, R: CollisionRule>(
@@ -14,7 +14,10 @@ fn check<const D: usize, B: Boundary, R: CollisionRule>(
 ) {
     let mut worst = f64::NEG_INFINITY;
     for _ in 0..events / 10_000 {
-        sim.run(Stop::Events(10_000));
+        if sim.run(Stop::Events(10_000)) != RunEnd::Reached {
+            println!("{label}: run ended early ({:?})", sim.collapse());
+            break;
+        }
         let (i, j, depth) = sim.deepest_overlap().unwrap();
         worst = worst.max(depth);
         assert!(
