@@ -26,6 +26,16 @@ pub trait CollisionRule: Clone + Debug + Send + Sync + 'static {
     /// between particles of reduced mass `m_eff` and reduced radius `r_eff = r_i r_j/(r_i + r_j)`.
     fn restitution(&self, vn: f64, m_eff: f64, r_eff: f64) -> f64;
 
+    /// True for rules that rotate the post-collision relative velocity ([`RandomRotation`]); the event
+    /// loop skips the rotation entirely for the others.
+    const ROTATES: bool = false;
+
+    /// Rotation angle for the post-collision relative velocity (only called when `ROTATES`).
+    #[inline(always)]
+    fn rotation_angle(&self, _rng: &mut rand_xoshiro::Xoshiro256PlusPlus) -> f64 {
+        0.0
+    }
+
     /// The restitution of a collision at physical time `t` between particles whose rule states are
     /// `si` and `sj`, updating them. Rules without memory use [`Self::restitution`].
     #[inline(always)]
@@ -309,6 +319,12 @@ impl Default for LastCollision {
 
 impl<R: CollisionRule<State = ()>> CollisionRule for TcModel<R> {
     type State = LastCollision;
+    const ROTATES: bool = R::ROTATES;
+
+    #[inline(always)]
+    fn rotation_angle(&self, rng: &mut rand_xoshiro::Xoshiro256PlusPlus) -> f64 {
+        self.inner.rotation_angle(rng)
+    }
 
     #[inline(always)]
     fn restitution(&self, vn: f64, m_eff: f64, r_eff: f64) -> f64 {
@@ -333,6 +349,61 @@ impl<R: CollisionRule<State = ()>> CollisionRule for TcModel<R> {
         } else {
             1.0
         }
+    }
+}
+
+/// Random rotation remedy (the thesis's): after the collision law, the relative velocity of the pair is
+/// rotated in the centre-of-mass frame by an angle uniform in [0, θ_max] about a random axis, so that
+/// momentum and energy are exactly those of the law (rotating the two lab-frame velocities separately
+/// would not conserve momentum). A rotation that would turn the pair towards each other again is
+/// taken the other way. Composes with any rule; with [`ThresholdRestitution`] it is the thesis's
+/// combination.
+#[derive(Debug, Clone, Copy)]
+pub struct RandomRotation<R> {
+    inner: R,
+    theta_max: f64,
+}
+
+impl<R: CollisionRule> RandomRotation<R> {
+    /// `inner` followed by a rotation by up to `theta_max` radians (in [0, π/2]).
+    pub fn new(inner: R, theta_max: f64) -> Result<Self, EdmdError> {
+        if !(0.0..=std::f64::consts::FRAC_PI_2).contains(&theta_max) {
+            return Err(EdmdError::invalid(
+                "theta_max",
+                theta_max,
+                "rotation angle must lie in [0, π/2] radians",
+            ));
+        }
+        Ok(RandomRotation { inner, theta_max })
+    }
+}
+
+impl<R: CollisionRule> CollisionRule for RandomRotation<R> {
+    type State = R::State;
+    const ROTATES: bool = true;
+
+    #[inline(always)]
+    fn restitution(&self, vn: f64, m_eff: f64, r_eff: f64) -> f64 {
+        self.inner.restitution(vn, m_eff, r_eff)
+    }
+
+    #[inline(always)]
+    fn restitution_at(
+        &self,
+        vn: f64,
+        m_eff: f64,
+        r_eff: f64,
+        t: f64,
+        si: &mut R::State,
+        sj: &mut R::State,
+    ) -> f64 {
+        self.inner.restitution_at(vn, m_eff, r_eff, t, si, sj)
+    }
+
+    #[inline]
+    fn rotation_angle(&self, rng: &mut rand_xoshiro::Xoshiro256PlusPlus) -> f64 {
+        use rand::Rng;
+        self.theta_max * rng.random::<f64>()
     }
 }
 

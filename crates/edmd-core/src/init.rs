@@ -212,7 +212,11 @@ impl<const D: usize> InitParams<D> {
                 mass,
             })
             .collect();
-        let params = self.sim.unwrap_or_else(|| SimParams::for_density::<D>(phi));
+        // The random stream of random collision rules derives from the state's seed.
+        let params = self.sim.unwrap_or_else(|| SimParams {
+            seed: self.seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ 1,
+            ..SimParams::for_density::<D>(phi)
+        });
         let melt = self.melt_tau.unwrap_or(if lattice { 20.0 } else { 0.0 });
         let sim = if melt > 0.0 {
             let mut sim =

@@ -16,6 +16,9 @@
 
 use std::marker::PhantomData;
 
+use rand::SeedableRng;
+use rand_xoshiro::Xoshiro256PlusPlus;
+
 use crate::calendar::{Calendar, PaulCalendar};
 use crate::cells::{CellGrid, NONE};
 use crate::predict::{approaching, pair_time, reach_time};
@@ -141,6 +144,8 @@ pub struct SimParams {
     /// (checked every rebase), all velocities are scaled back up and the factor is tracked
     /// (default 1e-4; 0 disables). Reported quantities stay in physical units.
     pub rescale_below: f64,
+    /// Seed of the random stream used by random collision rules (default 0).
+    pub seed: u64,
 }
 
 impl Default for SimParams {
@@ -150,6 +155,7 @@ impl Default for SimParams {
             rebase_events_per_particle: 8.0,
             wall_epsilon: 1.0,
             rescale_below: 1e-4,
+            seed: 0,
         }
     }
 }
@@ -199,6 +205,8 @@ pub struct Simulation<const D: usize, B: Boundary, R: CollisionRule, C: Calendar
     t_ref: f64,
     pub(crate) counters: Counters,
     params: SimParams,
+    /// Random stream of the rules that need one (random rotation), seeded from `SimParams::seed`.
+    rng: Xoshiro256PlusPlus,
     monitor: CollapseMonitor,
     next_maintenance: u64,
     last_maintenance: (u64, f64),
@@ -335,6 +343,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             scale: 1.0,
             t_ref: 0.0,
             counters: Counters::default(),
+            rng: Xoshiro256PlusPlus::seed_from_u64(params.seed),
             params,
             monitor: CollapseMonitor::default(),
             next_maintenance: 0,
@@ -373,6 +382,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             t_ref: self.t_ref,
             counters: self.counters,
             params: self.params,
+            rng: self.rng,
             monitor: self.monitor,
             next_maintenance: self.next_maintenance,
             last_maintenance: self.last_maintenance,
@@ -817,10 +827,14 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             .restitution_at(-gn * self.inv_scale, m_eff, r_eff, t_phys, si, sj);
         let impulse = -(1.0 + eps) * gn * m_eff;
         // New velocities, and the trajectories' origins moved so that positions stay put at `now`.
-        let (vi, vj) = (
+        let (mut vi, mut vj) = (
             pi.vel + normal * (impulse / mi),
             pj.vel - normal * (impulse / mj),
         );
+        if R::ROTATES {
+            let theta = self.rule.rotation_angle(&mut self.rng);
+            (vi, vj) = rotate_relative(vi, vj, mi, mj, &normal, theta, &mut self.rng);
+        }
         self.particles[i].vel = vi;
         self.particles[i].r0 = pos_i - vi * now;
         self.particles[j].vel = vj;
@@ -1108,6 +1122,46 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         }
         worst
     }
+}
+
+/// Rotates the relative velocity `vi − vj` by `theta` about a random axis in the centre-of-mass frame,
+/// keeping the centre-of-mass velocity and |vi − vj|; the direction is flipped if the first choice
+/// would make the pair approach along `normal`, and no rotation is done if both would.
+fn rotate_relative<const D: usize>(
+    vi: Vector<D>,
+    vj: Vector<D>,
+    mi: f64,
+    mj: f64,
+    normal: &Vector<D>,
+    theta: f64,
+    rng: &mut Xoshiro256PlusPlus,
+) -> (Vector<D>, Vector<D>) {
+    use rand::Rng;
+    let g = vi - vj;
+    let speed = g.norm();
+    if theta == 0.0 || speed == 0.0 {
+        return (vi, vj);
+    }
+    let gh = g / speed;
+    // A random unit vector perpendicular to g (in 2D: one of the two normals).
+    let mut w = Vector::<D>::from_fn(|_, _| rng.sample::<f64, _>(rand_distr::StandardNormal));
+    w -= gh * w.dot(&gh);
+    let wn = w.norm();
+    if wn == 0.0 {
+        return (vi, vj);
+    }
+    w /= wn;
+    let (s, c) = theta.sin_cos();
+    let mut rotated = (gh * c + w * s) * speed;
+    if rotated.dot(normal) < 0.0 {
+        rotated = (gh * c - w * s) * speed;
+        if rotated.dot(normal) < 0.0 {
+            return (vi, vj);
+        }
+    }
+    let mt = mi + mj;
+    let vcm = (vi * mi + vj * mj) / mt;
+    (vcm + rotated * (mj / mt), vcm - rotated * (mi / mt))
 }
 
 /// When to stop a run.

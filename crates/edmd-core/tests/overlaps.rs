@@ -4,7 +4,7 @@
 
 use edmd_core::{
     Boundary, Channel, CollisionRule, ConstantRestitution, Elastic, InitParams, Periodic,
-    Placement, RunEnd, Simulation, Stop, Walls,
+    Placement, RandomRotation, RunEnd, Simulation, Stop, ThresholdRestitution, Walls,
 };
 
 fn check<const D: usize, B: Boundary, R: CollisionRule>(
@@ -80,6 +80,29 @@ fn strongly_inelastic_gases() {
         p.build::<Walls, _>(eps(0.3)).unwrap(),
         300_000,
         "3D walls phi=0.45 eps=0.3",
+    );
+}
+
+#[test]
+fn random_rotation_remedy() {
+    let p = InitParams::<2>::with_packing(2000, 0.5).unwrap();
+    let rule = RandomRotation::new(
+        ThresholdRestitution::new(0.5, 1.0, 1e-3).unwrap(),
+        5f64.to_radians(),
+    )
+    .unwrap();
+    check(
+        p.build::<Periodic, _>(rule).unwrap(),
+        300_000,
+        "2D periodic phi=0.5, threshold + rotation",
+    );
+    let p = InitParams::<3>::with_packing(2000, 0.3).unwrap();
+    let rule =
+        RandomRotation::new(ConstantRestitution::new(0.5).unwrap(), 10f64.to_radians()).unwrap();
+    check(
+        p.build::<Walls, _>(rule).unwrap(),
+        300_000,
+        "3D walls phi=0.3, eps=0.5 + rotation",
     );
 }
 

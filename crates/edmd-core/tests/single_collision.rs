@@ -3,8 +3,9 @@
 //! law's definition at the measured normal speed. Also walls with their own restitution.
 
 use edmd_core::{
-    Boundary, CollisionRule, ConstantRestitution, EventKind, ParticleInit, Periodic, SimParams,
-    Simulation, ThesisRestitution, ThresholdRestitution, Vector, Viscoelastic, Walls,
+    Boundary, CollisionRule, ConstantRestitution, EventKind, ParticleInit, Periodic,
+    RandomRotation, SimParams, Simulation, ThesisRestitution, ThresholdRestitution, Vector,
+    Viscoelastic, Walls,
 };
 
 struct Outcome {
@@ -140,6 +141,96 @@ fn all_rules<const D: usize>() {
         },
         "viscoelastic",
     );
+}
+
+/// Post-collision relative velocity of the pair (same set-up as `collide_once`).
+fn relative_after<const D: usize, R: CollisionRule>(rule: R, seed: u64) -> Vector<D> {
+    let mut a = Vector::<D>::repeat(5.0);
+    let mut b = Vector::<D>::repeat(5.2);
+    a[0] = 3.0;
+    b[0] = 5.5;
+    let mut va = Vector::<D>::zeros();
+    va[0] = 1.0;
+    va[1] = 0.3;
+    let mut vb = Vector::<D>::zeros();
+    vb[0] = -0.5;
+    let parts = vec![
+        ParticleInit {
+            pos: a,
+            vel: va,
+            radius: 0.5,
+            mass: 1.0,
+        },
+        ParticleInit {
+            pos: b,
+            vel: vb,
+            radius: 0.7,
+            mass: 1.96,
+        },
+    ];
+    let params = SimParams {
+        seed,
+        ..SimParams::default()
+    };
+    let mut sim =
+        Simulation::<D, Periodic, R>::new(Vector::<D>::repeat(10.0), parts, rule, params).unwrap();
+    loop {
+        if let EventKind::Collision(..) = sim.step().unwrap() {
+            break;
+        }
+    }
+    let v = sim.velocities();
+    v[0] - v[1]
+}
+
+/// Random rotation (alone and in the thesis's combination with a threshold): energy and momentum are
+/// those of the underlying law; the relative velocity turns by at most θ_max, and by more than zero.
+fn rotations<const D: usize>() {
+    let theta = 10f64.to_radians();
+    check::<D, _>(
+        RandomRotation::new(ConstantRestitution::new(0.8).unwrap(), theta).unwrap(),
+        |_, _, _| 0.8,
+        "rotation + constant",
+    );
+    check::<D, _>(
+        RandomRotation::new(ThresholdRestitution::new(0.6, 0.95, 5.0).unwrap(), theta).unwrap(),
+        |_, _, _| 0.95,
+        "rotation + threshold (thesis)",
+    );
+    let mut turned = Vec::new();
+    for seed in 0..20 {
+        let g_plain = relative_after::<D, _>(ConstantRestitution::new(0.8).unwrap(), seed);
+        let g_rot = relative_after::<D, _>(
+            RandomRotation::new(ConstantRestitution::new(0.8).unwrap(), theta).unwrap(),
+            seed,
+        );
+        assert!((g_rot.norm() - g_plain.norm()).abs() < 1e-14);
+        let angle = (g_rot.dot(&g_plain) / (g_rot.norm() * g_plain.norm()))
+            .clamp(-1.0, 1.0)
+            .acos();
+        assert!(
+            angle <= theta + 1e-12,
+            "turned by {} degrees",
+            angle.to_degrees()
+        );
+        turned.push(angle);
+    }
+    let mean = turned.iter().sum::<f64>() / turned.len() as f64;
+    println!(
+        "D = {D}: mean rotation {:.2} degrees (uniform in [0, 10]: 5)",
+        mean.to_degrees()
+    );
+    assert!(mean > 0.2 * theta && mean < 0.8 * theta);
+}
+
+#[test]
+fn random_rotation_conserves_and_turns_2d() {
+    rotations::<2>();
+}
+
+#[test]
+fn random_rotation_conserves_and_turns_3d() {
+    rotations::<3>();
 }
 
 #[test]
