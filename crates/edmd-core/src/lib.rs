@@ -45,8 +45,8 @@ pub use boundary::{Axes, Boundary, Channel, Periodic, Walls};
 pub use calendar::{Calendar, HeapCalendar, PaulCalendar};
 pub use cells::CellGrid;
 pub use collide::{
-    CollisionRule, ConstantRestitution, Elastic, LastCollision, RandomRotation, TcModel,
-    ThesisRestitution, ThresholdRestitution, Viscoelastic,
+    CollisionRule, ConstantRestitution, Elastic, LastCollision, RandomRotation, Rough, Spin,
+    TcModel, ThesisRestitution, ThresholdRestitution, Viscoelastic,
 };
 pub use error::EdmdError;
 pub use init::{InitParams, Placement, Velocities};

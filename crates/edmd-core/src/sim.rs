@@ -831,6 +831,44 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             pi.vel + normal * (impulse / mi),
             pj.vel - normal * (impulse / mj),
         );
+        if R::ROUGH {
+            let (beta, q) = self.rule.roughness();
+            let (ri, rj) = (pi.radius, pj.radius);
+            let n3 = pad3(&normal);
+            let (wi, wj) = (R::spin(si), R::spin(sj));
+            let arm = [
+                ri * wi[0] + rj * wj[0],
+                ri * wi[1] + rj * wj[1],
+                ri * wi[2] + rj * wj[2],
+            ];
+            let spin_part = cross3(&arm, &n3);
+            let g3 = pad3(&dv);
+            let gc = [
+                g3[0] - spin_part[0],
+                g3[1] - spin_part[1],
+                g3[2] - spin_part[2],
+            ];
+            let gcn = gc[0] * n3[0] + gc[1] * n3[1] + gc[2] * n3[2];
+            let gt = [
+                gc[0] - gcn * n3[0],
+                gc[1] - gcn * n3[1],
+                gc[2] - gcn * n3[2],
+            ];
+            let inv_mu_t = 1.0 / mi + 1.0 / mj + 1.0 / (q * mi) + 1.0 / (q * mj);
+            let k = -(1.0 + beta) / inv_mu_t;
+            let pt = [k * gt[0], k * gt[1], k * gt[2]];
+            for a in 0..D {
+                vi[a] += pt[a] / mi;
+                vj[a] -= pt[a] / mj;
+            }
+            // Torques: i is touched at −R_i n, j at +R_j n with −P_t.
+            let np = cross3(&n3, &pt);
+            let (ii, ij) = (q * mi * ri * ri, q * mj * rj * rj);
+            let dwi = [-ri * np[0] / ii, -ri * np[1] / ii, -ri * np[2] / ii];
+            let dwj = [-rj * np[0] / ij, -rj * np[1] / ij, -rj * np[2] / ij];
+            R::set_spin(si, [wi[0] + dwi[0], wi[1] + dwi[1], wi[2] + dwi[2]]);
+            R::set_spin(sj, [wj[0] + dwj[0], wj[1] + dwj[1], wj[2] + dwj[2]]);
+        }
         if R::ROTATES {
             let theta = self.rule.rotation_angle(&mut self.rng);
             (vi, vj) = rotate_relative(vi, vj, mi, mj, &normal, theta, &mut self.rng);
@@ -919,6 +957,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         for p in &mut self.particles {
             p.vel *= factor;
         }
+        self.scale_spins(factor);
         for m in &mut self.meta {
             m.counter = m.counter.wrapping_add(1);
         }
@@ -1019,6 +1058,55 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         &self.particles
     }
 
+    fn scale_spins(&mut self, factor: f64) {
+        if R::ROUGH {
+            for st in &mut self.rule_state {
+                let w = R::spin(st);
+                R::set_spin(st, [w[0] * factor, w[1] * factor, w[2] * factor]);
+            }
+        }
+    }
+
+    /// Angular velocities (physical units, original order; z only in 2D; zero for smooth rules).
+    pub fn spins(&self) -> Vec<[f64; 3]> {
+        self.in_original_order(|s| {
+            let w = R::spin(&self.rule_state[s]);
+            [
+                w[0] * self.inv_scale,
+                w[1] * self.inv_scale,
+                w[2] * self.inv_scale,
+            ]
+        })
+    }
+
+    /// Sets the angular velocity of particle `id` (original index; physical units; only z counts in
+    /// 2D). Ignored by smooth rules. Events are predicted again.
+    pub fn set_spin(&mut self, id: usize, spin: [f64; 3]) {
+        if let Some(s) = self.meta.iter().position(|m| m.id as usize == id) {
+            let f = self.scale;
+            R::set_spin(
+                &mut self.rule_state[s],
+                [spin[0] * f, spin[1] * f, spin[2] * f],
+            );
+        }
+    }
+
+    /// Rotational kinetic energy Σ I ω²/2 (physical units; zero for smooth rules).
+    pub fn rotational_energy(&self) -> f64 {
+        if !R::ROUGH {
+            return 0.0;
+        }
+        let (_, q) = self.rule.roughness();
+        let sum: f64 = (0..self.len())
+            .map(|s| {
+                let w = R::spin(&self.rule_state[s]);
+                let r = self.particles[s].radius;
+                0.5 * q * self.meta[s].mass * r * r * (w[0] * w[0] + w[1] * w[1] + w[2] * w[2])
+            })
+            .sum();
+        sum * self.inv_scale * self.inv_scale
+    }
+
     /// Collisions (pair and wall) suffered by each particle, in the original order.
     pub fn collision_counts(&self) -> Vec<u32> {
         self.in_original_order(|s| self.meta[s].counter)
@@ -1060,6 +1148,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         for p in &mut self.particles {
             p.vel *= factor;
         }
+        self.scale_spins(factor);
         for m in &mut self.meta {
             m.counter = m.counter.wrapping_add(1);
         }
@@ -1122,6 +1211,25 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         }
         worst
     }
+}
+
+/// A D-vector as a 3-vector (z = 0 in 2D).
+#[inline(always)]
+fn pad3<const D: usize>(v: &Vector<D>) -> [f64; 3] {
+    let mut out = [0.0; 3];
+    for a in 0..D.min(3) {
+        out[a] = v[a];
+    }
+    out
+}
+
+#[inline(always)]
+fn cross3(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
 }
 
 /// Rotates the relative velocity `vi − vj` by `theta` about a random axis in the centre-of-mass frame,
