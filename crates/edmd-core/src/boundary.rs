@@ -11,6 +11,9 @@ pub trait Boundary: Copy + Clone + Debug + Default + Send + Sync + 'static {
     const WALL_MASK: u8;
     /// Short name used in files and messages.
     const NAME: &'static str;
+    /// True for scenes with uniform gravity along −(last axis) (`SimParams::gravity`); only these
+    /// solve quadratics for crossings and wall contacts.
+    const GRAVITY: bool = false;
 
     /// True if axis `a` has walls.
     #[inline(always)]
@@ -38,6 +41,26 @@ impl<const MASK: u8> Boundary for Axes<MASK> {
         _ => "mixed",
     };
 }
+
+/// Like [`Axes`], with uniform gravity pulling towards the floor at 0 of the last axis (y in 2D,
+/// z in 3D), which must have walls.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct GravityAxes<const MASK: u8>;
+
+impl<const MASK: u8> Boundary for GravityAxes<MASK> {
+    const WALL_MASK: u8 = MASK;
+    const NAME: &'static str = match MASK {
+        0b111 => "container",
+        0b110 => "column",
+        _ => "gravity-mixed",
+    };
+    const GRAVITY: bool = true;
+}
+
+/// Walls on every axis and gravity: a closed container with a floor.
+pub type Container = GravityAxes<0b111>;
+/// Periodic in x, walls elsewhere, gravity: a column with a floor.
+pub type Column = GravityAxes<0b110>;
 
 /// Periodic on every axis.
 pub type Periodic = Axes<0>;

@@ -41,7 +41,7 @@ pub mod theory;
 /// A D-dimensional `f64` vector.
 pub type Vector<const D: usize> = nalgebra::SVector<f64, D>;
 
-pub use boundary::{Axes, Boundary, Channel, Periodic, Walls};
+pub use boundary::{Axes, Boundary, Channel, Column, Container, GravityAxes, Periodic, Walls};
 pub use calendar::{Calendar, HeapCalendar, PaulCalendar};
 pub use cells::CellGrid;
 pub use collide::{

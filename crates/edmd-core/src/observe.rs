@@ -39,7 +39,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         self.particles
             .iter()
             .zip(&self.meta)
-            .map(|(p, m)| 0.5 * m.mass * p.vel.norm_squared())
+            .map(|(p, m)| 0.5 * m.mass * self.velocity_now(p).norm_squared())
             .sum()
     }
 
@@ -74,8 +74,9 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         let mut momentum = Vector::<D>::zeros();
         let (mut scale, mut ke, mut v2, mut v4) = (0.0, 0.0, 0.0, 0.0);
         for (p, m) in self.particles.iter().zip(self.meta.iter().map(|m| m.mass)) {
-            let s2 = p.vel.norm_squared();
-            momentum += p.vel * m;
+            let v = self.velocity_now(p);
+            let s2 = v.norm_squared();
+            momentum += v * m;
             scale += m * s2.sqrt();
             ke += 0.5 * m * s2;
             v2 += s2;

@@ -60,6 +60,43 @@ pub fn reach_time(x: f64, v: f64, target: f64) -> f64 {
     ((target - x) / v).max(0.0)
 }
 
+/// Under gravity `g > 0` (pulling towards −x): time until `x(t) = x + u t − g t²/2` next comes down
+/// through `target` (0 if it is already at or below it and not rising); cancellation-free.
+#[inline]
+pub fn fall_time(x: f64, u: f64, g: f64, target: f64) -> f64 {
+    let h = x - target;
+    let disc = u * u + 2.0 * g * h;
+    if (h <= 0.0 && u <= 0.0) || disc < 0.0 {
+        // At or below the target and not rising, or (by round-off) below it without the speed to
+        // rise above it: it crosses now.
+        return 0.0;
+    }
+    let s = disc.sqrt();
+    if u <= 0.0 {
+        2.0 * h / (s - u)
+    } else {
+        (u + s) / g
+    }
+}
+
+/// Under gravity `g ≥ 0`: time until `x(t) = x + u t − g t²/2` first rises to `target ≥ x`; `∞` if
+/// its apex stays below (0 if already above it while rising).
+#[inline]
+pub fn rise_time(x: f64, u: f64, g: f64, target: f64) -> f64 {
+    let d = target - x;
+    if u <= 0.0 {
+        return f64::INFINITY;
+    }
+    if d <= 0.0 {
+        return 0.0;
+    }
+    let disc = u * u - 2.0 * g * d;
+    if disc < 0.0 {
+        return f64::INFINITY;
+    }
+    2.0 * d / (u + disc.sqrt())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -116,6 +153,25 @@ mod tests {
         let (dr, dv) = (vector![1.0, 0.0], vector![-1e-20, 1.0]);
         assert_eq!(pair_time(&dr, &dv, 1.0, 2.0), f64::INFINITY);
         assert_eq!(pair_time(&dr, &vector![-1e-6, 1.0], 1.0, 2.0), 0.0);
+    }
+
+    #[test]
+    fn ballistic_times() {
+        // Dropped from 5 onto 0 with g = 2: t = √5.
+        assert!((fall_time(5.0, 0.0, 2.0, 0.0) - 5f64.sqrt()).abs() < 1e-15);
+        // Thrown up at 2 with g = 2: reaches 0.75 at t = 0.5, never reaches 1.1 (apex 1).
+        assert!((rise_time(0.0, 2.0, 2.0, 0.75) - 0.5).abs() < 1e-15);
+        assert_eq!(rise_time(0.0, 2.0, 2.0, 1.1), f64::INFINITY);
+        // Thrown up at 2 from 1, falls back to 0 at t = 1 + √2.
+        assert!((fall_time(1.0, 2.0, 2.0, 0.0) - (1.0 + 2f64.sqrt())).abs() < 1e-14);
+        // Just bounced off the floor (at or a hair below the contact height): back after 2u/g.
+        assert!((fall_time(0.5, 1.0, 2.0, 0.5) - 1.0).abs() < 1e-15);
+        assert!((fall_time(0.5 - 1e-16, 1.0, 2.0, 0.5) - 1.0).abs() < 1e-15);
+        assert_eq!(fall_time(0.5 - 1e-16, -1.0, 2.0, 0.5), 0.0);
+        // Without gravity they reduce to straight lines.
+        assert_eq!(fall_time(3.0, -2.0, 0.0, 1.0), 1.0);
+        assert_eq!(rise_time(1.0, 2.0, 0.0, 3.0), 1.0);
+        assert_eq!(fall_time(3.0, 2.0, 0.0, 1.0), f64::INFINITY);
     }
 
     #[test]

@@ -21,7 +21,7 @@ use rand_xoshiro::Xoshiro256PlusPlus;
 
 use crate::calendar::{Calendar, PaulCalendar};
 use crate::cells::{CellGrid, NONE};
-use crate::predict::{approaching, pair_time, reach_time};
+use crate::predict::{approaching, fall_time, pair_time, reach_time, rise_time};
 use crate::{Boundary, CollisionRule, EdmdError, Particle, ParticleInit, Vector};
 
 const WALL: u8 = 0x80;
@@ -146,6 +146,13 @@ pub struct SimParams {
     pub rescale_below: f64,
     /// Seed of the random stream used by random collision rules (default 0).
     pub seed: u64,
+    /// Gravitational acceleration towards the floor of the last axis, for gravity scenes
+    /// ([`crate::GravityAxes`]); must be 0 elsewhere (default 0).
+    pub gravity: f64,
+    /// Wall contacts slower than this normal speed are elastic (default 0: off). Under gravity it keeps
+    /// grains resting on the floor from bouncing ever faster (a collapse against the wall): their
+    /// bounces keep a height of at least ~ε_w²δ²/(2g).
+    pub wall_threshold: f64,
 }
 
 impl Default for SimParams {
@@ -156,6 +163,8 @@ impl Default for SimParams {
             wall_epsilon: 1.0,
             rescale_below: 1e-4,
             seed: 0,
+            gravity: 0.0,
+            wall_threshold: 0.0,
         }
     }
 }
@@ -250,6 +259,34 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                 "wall_epsilon",
                 params.wall_epsilon,
                 "restitution must lie in [0, 1]",
+            ));
+        }
+        if !(params.gravity >= 0.0 && params.gravity.is_finite()) {
+            return Err(EdmdError::invalid(
+                "gravity",
+                params.gravity,
+                "must be ≥ 0 and finite",
+            ));
+        }
+        if params.gravity != 0.0 && !B::GRAVITY {
+            return Err(EdmdError::invalid(
+                "gravity",
+                params.gravity,
+                "this scene has no gravity: use a GravityAxes scene",
+            ));
+        }
+        if B::GRAVITY && !B::is_wall(D - 1) {
+            return Err(EdmdError::invalid(
+                "scene",
+                B::NAME,
+                "gravity needs walls (a floor) on the last axis",
+            ));
+        }
+        if !(params.wall_threshold >= 0.0 && params.wall_threshold.is_finite()) {
+            return Err(EdmdError::invalid(
+                "wall_threshold",
+                params.wall_threshold,
+                "must be ≥ 0 and finite",
             ));
         }
         if !(params.rescale_below >= 0.0 && params.rescale_below < 1.0) {
@@ -425,7 +462,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             1.0
         };
         self.reschedule_all(width);
-        self.next_maintenance = self.counters.events + n.max(1000) as u64;
+        self.next_maintenance = self.counters.events + n.max(64) as u64;
         self.last_maintenance = (self.counters.events, self.now);
     }
 
@@ -513,8 +550,13 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         if now == 0.0 {
             return;
         }
+        let g = self.params.gravity;
         for p in &mut self.particles {
             p.r0 += p.vel * now;
+            if B::GRAVITY {
+                p.r0[D - 1] -= 0.5 * g * now * now;
+                p.vel[D - 1] -= g * now;
+            }
         }
         for m in &mut self.meta {
             m.ev.coll_t -= now;
@@ -741,7 +783,36 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         let p = &self.particles[i];
         let c = &self.meta[i].cell;
         let mut best = (f64::INFINITY, 0u8);
+        if B::GRAVITY {
+            // The last axis: a parabola, which may turn before the upper face and always falls.
+            let a = D - 1;
+            let g = self.params.gravity;
+            let now = self.now;
+            let x = p.r0[a] + p.vel[a] * now - 0.5 * g * now * now;
+            let u = p.vel[a] - g * now;
+            let top = c[a] as usize + 1 == self.grid.n[a];
+            let (up_target, up_code) = if top {
+                (self.box_len[a] - p.radius, WALL | (a as u8) << 1 | 1)
+            } else {
+                ((c[a] + 1) as f64 * self.grid.side[a], (a as u8) << 1 | 1)
+            };
+            let (down_target, down_code) = if c[a] == 0 {
+                (p.radius, WALL | (a as u8) << 1)
+            } else {
+                (c[a] as f64 * self.grid.side[a], (a as u8) << 1)
+            };
+            let t_up = rise_time(x, u, g, up_target);
+            let t_down = fall_time(x, u, g, down_target);
+            best = if t_up < t_down {
+                (now + t_up, up_code)
+            } else {
+                (now + t_down, down_code)
+            };
+        }
         for a in 0..D {
+            if B::GRAVITY && a == D - 1 {
+                continue;
+            }
             let v = p.vel[a];
             let up = v > 0.0;
             if v == 0.0 {
@@ -888,10 +959,23 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     #[inline]
     fn wall(&mut self, i: usize, axis: usize) {
         let now = self.now;
+        let gravity = if B::GRAVITY && axis == D - 1 {
+            self.params.gravity
+        } else {
+            0.0
+        };
         let p = &mut self.particles[i];
-        let x = p.r0[axis] + p.vel[axis] * now;
-        p.vel[axis] *= -self.params.wall_epsilon;
-        p.r0[axis] = x - p.vel[axis] * now;
+        // Normal speed at contact (the stored velocity is the one at local time 0 under gravity).
+        let u = p.vel[axis] - gravity * now;
+        let e = if u.abs() < self.params.wall_threshold {
+            1.0
+        } else {
+            self.params.wall_epsilon
+        };
+        let v_new = -e * u + gravity * now;
+        // Keep the position continuous: r0 + v t is the non-gravitational part of the trajectory.
+        p.r0[axis] += (p.vel[axis] - v_new) * now;
+        p.vel[axis] = v_new;
         self.meta[i].counter = self.meta[i].counter.wrapping_add(1);
         self.counters.wall_collisions += 1;
     }
@@ -941,7 +1025,8 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     /// every velocity back up to it and records the factor, so that T/T0 = 1e-300 and beyond is
     /// reached without underflow. The caller predicts all events again.
     fn rescale_if_cold(&mut self) -> bool {
-        if self.params.rescale_below <= 0.0 {
+        // Under gravity the acceleration would have to be rescaled too: no deep cooling there.
+        if self.params.rescale_below <= 0.0 || B::GRAVITY {
             return false;
         }
         let sim_t = self.simulated_temperature();
@@ -988,7 +1073,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         }
         let n = self.particles.len() as f64;
         self.next_maintenance =
-            self.counters.events + (self.params.rebase_events_per_particle * n).max(1000.0) as u64;
+            self.counters.events + (self.params.rebase_events_per_particle * n).max(64.0) as u64;
         self.last_maintenance = (self.counters.events, 0.0);
     }
 
@@ -1123,7 +1208,28 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
 
     /// Velocities, in the original particle order.
     pub fn velocities(&self) -> Vec<Vector<D>> {
-        self.in_original_order(|s| self.particles[s].vel * self.inv_scale)
+        self.in_original_order(|s| self.velocity_now(&self.particles[s]) * self.inv_scale)
+    }
+
+    /// A particle's velocity at the current time (the stored one is at local time 0 under gravity).
+    #[inline(always)]
+    pub(crate) fn velocity_now(&self, p: &Particle<D>) -> Vector<D> {
+        let mut v = p.vel;
+        if B::GRAVITY {
+            v[D - 1] -= self.params.gravity * self.now;
+        }
+        v
+    }
+
+    /// Potential energy Σ m g h in the gravity field (0 without gravity).
+    pub fn potential_energy(&self) -> f64 {
+        if !B::GRAVITY {
+            return 0.0;
+        }
+        let g = self.params.gravity;
+        (0..self.len())
+            .map(|s| self.meta[s].mass * g * self.position_of_slot(s)[D - 1])
+            .sum()
     }
 
     /// Positions at the current time, wrapped into the box on periodic axes, in the original order.
@@ -1134,6 +1240,9 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     fn position_of_slot(&self, s: usize) -> Vector<D> {
         let p = &self.particles[s];
         let mut x = p.r0 + p.vel * self.now;
+        if B::GRAVITY {
+            x[D - 1] -= 0.5 * self.params.gravity * self.now * self.now;
+        }
         for a in 0..D {
             if !B::is_wall(a) {
                 x[a] = x[a].rem_euclid(self.box_len[a]);
