@@ -91,3 +91,20 @@ fn disks_dilute() {
 fn spheres_eps_0_9() {
     check::<3>(0.9, 0.1, 0.02);
 }
+
+/// The homogeneous cooling state's speed kurtosis at ε = 0.9 with N = 500 disks (φ = 0.05, box
+/// 0.7 L⊥): within 0.02 of 2(1 + a₂), averaged over τ ∈ [5, 40] and 40 seeds.
+#[test]
+fn kurtosis_eps_0_9_n_500() {
+    let (eps, phi, n) = (0.9, 0.05, 500);
+    let (l_perp, _) = critical_sizes(2, eps, phi, 1.0, Transport::Enskog);
+    let side = (n as f64 * edmd_core::init::unit_volume::<2>(0.5) / phi).sqrt();
+    assert!(side < l_perp, "box {side} not below L_perp {l_perp}");
+    let (_, _, kurtosis) = decay::<2>(eps, phi, n, 40);
+    let theory = 2.0 * (1.0 + a2(2, eps));
+    println!(
+        "N = {n}, eps = {eps}: kurtosis {kurtosis:.4}, theory {theory:.4} (box {:.2} L_perp)",
+        side / l_perp
+    );
+    assert!((kurtosis - theory).abs() < 0.02);
+}
