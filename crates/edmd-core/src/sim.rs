@@ -436,20 +436,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         let mut count = 0usize;
         for i in 0..n {
             let (coll_t, partner) = self.search(i, None, (f64::INFINITY, NONE));
-            let (aux_t, aux) = self.aux_event(i);
-            let partner_count = if partner == NONE {
-                0
-            } else {
-                self.meta[partner as usize].counter
-            };
-            self.meta[i].ev = EventSlot {
-                coll_t,
-                aux_t,
-                partner,
-                partner_count,
-                aux,
-            };
-            let t = coll_t.min(aux_t);
+            let t = self.set_event(i, coll_t, partner);
             if t.is_finite() {
                 sum += t - self.now;
                 count += 1;
@@ -655,6 +642,14 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
 
     #[inline]
     fn store(&mut self, i: usize, coll_t: f64, partner: u32) {
+        let t = self.set_event(i, coll_t, partner);
+        self.calendar.schedule(i as u32, t);
+    }
+
+    /// Records particle `i`'s collision candidate and its next crossing or wall contact; returns the
+    /// earlier of the two.
+    #[inline]
+    fn set_event(&mut self, i: usize, coll_t: f64, partner: u32) -> f64 {
         let (aux_t, aux) = self.aux_event(i);
         let partner_count = if partner == NONE {
             0
@@ -668,7 +663,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             partner_count,
             aux,
         };
-        self.calendar.schedule(i as u32, coll_t.min(aux_t));
+        coll_t.min(aux_t)
     }
 
     /// Earliest contact of particle `i` (at now) with the members of its neighbour cells; with

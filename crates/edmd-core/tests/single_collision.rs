@@ -8,15 +8,8 @@ use edmd_core::{
     Viscoelastic, Walls,
 };
 
-struct Outcome {
-    gn: f64,
-    m_eff: f64,
-    r_eff: f64,
-    energy_loss: f64,
-    momentum_error: f64,
-}
-
-fn collide_once<const D: usize, R: CollisionRule>(rule: R) -> Outcome {
+/// Two unequal particles on course for an oblique collision, and their velocities.
+fn two_particles<const D: usize>() -> (Vec<ParticleInit<D>>, Vector<D>, Vector<D>) {
     let mut a = Vector::<D>::repeat(5.0);
     let mut b = Vector::<D>::repeat(5.2);
     a[0] = 3.0;
@@ -40,6 +33,19 @@ fn collide_once<const D: usize, R: CollisionRule>(rule: R) -> Outcome {
             mass: 1.96,
         },
     ];
+    (parts, va, vb)
+}
+
+struct Outcome {
+    gn: f64,
+    m_eff: f64,
+    r_eff: f64,
+    energy_loss: f64,
+    momentum_error: f64,
+}
+
+fn collide_once<const D: usize, R: CollisionRule>(rule: R) -> Outcome {
+    let (parts, va, vb) = two_particles::<D>();
     let mut sim = Simulation::<D, Periodic, R>::new(
         Vector::<D>::repeat(10.0),
         parts.clone(),
@@ -145,29 +151,7 @@ fn all_rules<const D: usize>() {
 
 /// Post-collision relative velocity of the pair (same set-up as `collide_once`).
 fn relative_after<const D: usize, R: CollisionRule>(rule: R, seed: u64) -> Vector<D> {
-    let mut a = Vector::<D>::repeat(5.0);
-    let mut b = Vector::<D>::repeat(5.2);
-    a[0] = 3.0;
-    b[0] = 5.5;
-    let mut va = Vector::<D>::zeros();
-    va[0] = 1.0;
-    va[1] = 0.3;
-    let mut vb = Vector::<D>::zeros();
-    vb[0] = -0.5;
-    let parts = vec![
-        ParticleInit {
-            pos: a,
-            vel: va,
-            radius: 0.5,
-            mass: 1.0,
-        },
-        ParticleInit {
-            pos: b,
-            vel: vb,
-            radius: 0.7,
-            mass: 1.96,
-        },
-    ];
+    let (parts, _, _) = two_particles::<D>();
     let params = SimParams {
         seed,
         ..SimParams::default()
