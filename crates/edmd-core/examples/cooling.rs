@@ -8,7 +8,7 @@
 //!
 //! `cargo run --release -p edmd-core --example cooling [-- N PHI]`
 
-use edmd_core::theory::haff_rate;
+use edmd_core::theory::{critical_sizes, haff_rate, Transport};
 use edmd_core::{ConstantRestitution, InitParams, Periodic, Schedule, Stop};
 
 fn main() {
@@ -34,6 +34,18 @@ fn main() {
             rows.push((s.tau(), s.temperature() / t0));
         });
         let rate = sim.counters().pair_collisions as f64 / start.elapsed().as_secs_f64();
+        let (l_perp, l_par) = critical_sizes(2, eps, phi, 1.0, Transport::Enskog);
+        let side = sim.box_len()[0];
+        println!(
+            "eps = {eps}: box L = {side:.0}, L/L_perp = {:.2}, L/L_par = {:.2} ({})",
+            side / l_perp,
+            side / l_par,
+            if side < l_perp {
+                "homogeneous cooling expected"
+            } else {
+                "shear (and beyond L_par clustering) will grow"
+            }
+        );
         for (tau, t) in rows {
             let theory = (-k * tau).exp();
             println!(
