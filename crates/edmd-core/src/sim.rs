@@ -170,6 +170,52 @@ impl Default for SimParams {
 }
 
 impl SimParams {
+    /// Checks every field against its domain; the error names the field and the value.
+    pub fn validate(&self) -> Result<(), EdmdError> {
+        let checks: [(&'static str, f64, bool, &str); 6] = [
+            (
+                "cell_factor",
+                self.cell_factor,
+                self.cell_factor >= 1.0 && self.cell_factor.is_finite(),
+                "must be ≥ 1",
+            ),
+            (
+                "wall_epsilon",
+                self.wall_epsilon,
+                (0.0..=1.0).contains(&self.wall_epsilon),
+                "restitution must lie in [0, 1]",
+            ),
+            (
+                "gravity",
+                self.gravity,
+                self.gravity >= 0.0 && self.gravity.is_finite(),
+                "must be ≥ 0 and finite",
+            ),
+            (
+                "wall_threshold",
+                self.wall_threshold,
+                self.wall_threshold >= 0.0 && self.wall_threshold.is_finite(),
+                "must be ≥ 0 and finite",
+            ),
+            (
+                "rescale_below",
+                self.rescale_below,
+                (0.0..1.0).contains(&self.rescale_below),
+                "must lie in [0, 1)",
+            ),
+            (
+                "rebase_events_per_particle",
+                self.rebase_events_per_particle,
+                self.rebase_events_per_particle > 0.0,
+                "must be > 0",
+            ),
+        ];
+        match checks.into_iter().find(|c| !c.2) {
+            Some((field, value, _, reason)) => Err(EdmdError::invalid(field, value, reason)),
+            None => Ok(()),
+        }
+    }
+
     /// A cell factor that balances crossings against neighbour checks for a packing fraction `phi`.
     pub fn for_density<const D: usize>(phi: f64) -> Self {
         // Measured (edmd-core/examples/profile): cells of one diameter are fastest at φ ≥ 0.3; dilute
@@ -247,27 +293,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                 ));
             }
         }
-        if !(params.cell_factor >= 1.0 && params.cell_factor.is_finite()) {
-            return Err(EdmdError::invalid(
-                "cell_factor",
-                params.cell_factor,
-                "must be ≥ 1",
-            ));
-        }
-        if !(0.0..=1.0).contains(&params.wall_epsilon) {
-            return Err(EdmdError::invalid(
-                "wall_epsilon",
-                params.wall_epsilon,
-                "restitution must lie in [0, 1]",
-            ));
-        }
-        if !(params.gravity >= 0.0 && params.gravity.is_finite()) {
-            return Err(EdmdError::invalid(
-                "gravity",
-                params.gravity,
-                "must be ≥ 0 and finite",
-            ));
-        }
+        params.validate()?;
         if params.gravity != 0.0 && !B::GRAVITY {
             return Err(EdmdError::invalid(
                 "gravity",
@@ -280,27 +306,6 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                 "scene",
                 B::NAME,
                 "gravity needs walls (a floor) on the last axis",
-            ));
-        }
-        if !(params.wall_threshold >= 0.0 && params.wall_threshold.is_finite()) {
-            return Err(EdmdError::invalid(
-                "wall_threshold",
-                params.wall_threshold,
-                "must be ≥ 0 and finite",
-            ));
-        }
-        if !(params.rescale_below >= 0.0 && params.rescale_below < 1.0) {
-            return Err(EdmdError::invalid(
-                "rescale_below",
-                params.rescale_below,
-                "must lie in [0, 1)",
-            ));
-        }
-        if !(params.rebase_events_per_particle > 0.0) {
-            return Err(EdmdError::invalid(
-                "rebase_events_per_particle",
-                params.rebase_events_per_particle,
-                "must be > 0",
             ));
         }
         let mut max_d: f64 = 0.0;
