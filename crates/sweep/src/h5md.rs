@@ -1,0 +1,438 @@
+//! H5MD 1.1 replica files: writing them (under a temporary name, renamed when complete) and reading
+//! back the summary record the sweep index is built from.
+//!
+//! Layout (see `docs/output.md`):
+//!
+//! ```text
+//! /h5md                      version = [1, 1]; author/name; creator/name, creator/version
+//! /particles/gas/box         dimension, boundary ("periodic"/"none" per axis); edges [D]
+//! /particles/gas/position    step [k] (pair collisions), time [k], value [k, N, D]
+//! /particles/gas/velocity    step [k], time [k], value [k, N, D]
+//! /particles/gas/mass        [N];  /particles/gas/radius [N]
+//! /observables/<name>        step [s], time [s], value [s]   (temperature, ln_temperature, tau, …)
+//! /parameters                schema_version, spec (JSON), spec_hash, engine_version, git_commit,
+//!                            replica parameters, seed, status, message and final values as attributes;
+//!                            /parameters/spec holds every spec field as an attribute.
+//! ```
+
+use std::path::Path;
+
+use hdf5::types::VarLenUnicode;
+use hdf5::{Group, Location};
+use ndarray::{Array1, Array3};
+
+use crate::replica::{Outcome, Snapshot, Status};
+use crate::spec::{Replica, Spec};
+use crate::SweepError;
+
+/// Version of the layout of files written by edmd; readers check it.
+pub const SCHEMA_VERSION: i64 = 1;
+
+/// The commit the binary was built from ("unknown" outside a git checkout).
+pub const GIT_COMMIT: &str = env!("EDMD_GIT_COMMIT");
+
+/// One row of the sweep index: a replica's parameters, status and final values.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct Record {
+    /// Replica index.
+    pub index: usize,
+    /// File name relative to `OUT/replicas/` (empty when missing).
+    pub file: String,
+    /// `done`, `collapsed`, `failed` or `missing`.
+    pub status: String,
+    /// Why the replica failed or stopped early.
+    pub message: String,
+    /// Dimension.
+    pub dim: usize,
+    /// Boundary name.
+    pub boundary: String,
+    /// Restitution.
+    pub eps: f64,
+    /// Packing fraction.
+    pub phi: f64,
+    /// Box side.
+    pub box_side: f64,
+    /// Particle number.
+    pub n: usize,
+    /// Seed number within the grid point.
+    pub seed_index: u32,
+    /// Seed of the initial state.
+    pub seed: u64,
+    /// Remedy label.
+    pub remedy: String,
+    /// τ at the end.
+    pub tau: f64,
+    /// Physical time at the end.
+    pub time: f64,
+    /// ln(T/T0) at the end.
+    pub ln_temperature_ratio: f64,
+    /// Pair collisions run.
+    pub collisions: u64,
+    /// τ of a detected collapse (NaN if none).
+    pub collapse_tau: f64,
+    /// Wall-clock seconds of the replica.
+    pub wall_s: f64,
+}
+
+impl Record {
+    /// The record of a replica without a file.
+    pub fn missing(r: &Replica) -> Record {
+        Record {
+            index: r.index,
+            file: String::new(),
+            status: "missing".into(),
+            message: String::new(),
+            dim: r.dim,
+            boundary: r.boundary.name().into(),
+            eps: r.eps,
+            phi: r.phi(),
+            box_side: r.side(),
+            n: r.n,
+            seed_index: r.seed_index,
+            seed: r.seed,
+            remedy: r.remedy.label(),
+            tau: f64::NAN,
+            time: f64::NAN,
+            ln_temperature_ratio: f64::NAN,
+            collisions: 0,
+            collapse_tau: f64::NAN,
+            wall_s: f64::NAN,
+        }
+    }
+}
+
+fn vlu(s: &str) -> VarLenUnicode {
+    // Interior NUL bytes are the only thing VarLenUnicode rejects; they never occur in our strings.
+    s.replace('\0', " ").parse().expect("string without NUL")
+}
+
+pub(crate) fn attr_str(loc: &Location, name: &str, value: &str) -> hdf5::Result<()> {
+    loc.new_attr::<VarLenUnicode>()
+        .shape(())
+        .create(name)?
+        .write_scalar(&vlu(value))
+}
+
+pub(crate) fn attr_f64(loc: &Location, name: &str, value: f64) -> hdf5::Result<()> {
+    loc.new_attr::<f64>()
+        .shape(())
+        .create(name)?
+        .write_scalar(&value)
+}
+
+pub(crate) fn attr_i64(loc: &Location, name: &str, value: i64) -> hdf5::Result<()> {
+    loc.new_attr::<i64>()
+        .shape(())
+        .create(name)?
+        .write_scalar(&value)
+}
+
+fn attr_u64(loc: &Location, name: &str, value: u64) -> hdf5::Result<()> {
+    loc.new_attr::<u64>()
+        .shape(())
+        .create(name)?
+        .write_scalar(&value)
+}
+
+/// Writes every leaf of a JSON tree as an attribute named by its dotted path.
+fn json_attrs(loc: &Location, prefix: &str, v: &serde_json::Value) -> hdf5::Result<()> {
+    use serde_json::Value;
+    match v {
+        Value::Object(map) => {
+            for (k, child) in map {
+                let name = if prefix.is_empty() {
+                    k.clone()
+                } else {
+                    format!("{prefix}.{k}")
+                };
+                json_attrs(loc, &name, child)?;
+            }
+            Ok(())
+        }
+        Value::Null => attr_str(loc, prefix, "null"),
+        Value::Bool(b) => attr_i64(loc, prefix, *b as i64),
+        Value::Number(x) => match (x.as_i64(), x.as_f64()) {
+            (Some(i), _) => attr_i64(loc, prefix, i),
+            (None, Some(f)) => attr_f64(loc, prefix, f),
+            _ => attr_str(loc, prefix, &x.to_string()),
+        },
+        Value::String(s) => attr_str(loc, prefix, s),
+        Value::Array(items) => {
+            let numbers: Option<Vec<f64>> = items.iter().map(|x| x.as_f64()).collect();
+            match numbers {
+                Some(xs) if !xs.is_empty() => loc
+                    .new_attr::<f64>()
+                    .shape(xs.len())
+                    .create(prefix)?
+                    .write(&xs[..]),
+                _ => attr_str(loc, prefix, &v.to_string()),
+            }
+        }
+    }
+}
+
+struct Writer {
+    compression: u8,
+}
+
+impl Writer {
+    fn series_1d<T: hdf5::H5Type + Copy>(
+        &self,
+        g: &Group,
+        name: &str,
+        data: &[T],
+    ) -> hdf5::Result<()> {
+        let arr = Array1::from(data.to_vec());
+        let b = g
+            .new_dataset_builder()
+            .with_data(&arr)
+            .chunk(data.len().max(1));
+        if self.compression > 0 {
+            b.deflate(self.compression).create(name)?;
+        } else {
+            b.create(name)?;
+        }
+        Ok(())
+    }
+
+    /// An H5MD time-dependent element: `step`, `time` and `value` [k].
+    fn observable(
+        &self,
+        parent: &Group,
+        name: &str,
+        step: &[i64],
+        time: &[f64],
+        value: &[f64],
+    ) -> hdf5::Result<()> {
+        let g = parent.create_group(name)?;
+        self.series_1d(&g, "step", step)?;
+        self.series_1d(&g, "time", time)?;
+        self.series_1d(&g, "value", value)
+    }
+
+    /// An H5MD time-dependent per-particle element: `value` [k, N, D].
+    fn trajectory(
+        &self,
+        parent: &Group,
+        name: &str,
+        snaps: &[Snapshot],
+        n: usize,
+        d: usize,
+        pick: impl Fn(&Snapshot) -> &[f64],
+    ) -> hdf5::Result<()> {
+        let g = parent.create_group(name)?;
+        let step: Vec<i64> = snaps.iter().map(|s| s.step).collect();
+        let time: Vec<f64> = snaps.iter().map(|s| s.time).collect();
+        self.series_1d(&g, "step", &step)?;
+        self.series_1d(&g, "time", &time)?;
+        let flat: Vec<f64> = snaps.iter().flat_map(|s| pick(s).iter().copied()).collect();
+        let arr = Array3::from_shape_vec((snaps.len(), n, d), flat).expect("snapshot shape");
+        let b = g.new_dataset_builder().with_data(&arr).chunk((1, n, d));
+        if self.compression > 0 {
+            b.shuffle().deflate(self.compression).create("value")?;
+        } else {
+            b.create("value")?;
+        }
+        Ok(())
+    }
+}
+
+/// Writes a replica's file to `path.part`, then renames it to `path`.
+pub fn write_replica(
+    path: &Path,
+    spec: &Spec,
+    r: &Replica,
+    out: &Outcome,
+) -> Result<(), SweepError> {
+    let part = path.with_extension("h5.part");
+    let result = write_file(&part, spec, r, out);
+    if let Err(e) = result {
+        let _ = std::fs::remove_file(&part);
+        return Err(SweepError::Output(format!("{}: {e}", part.display())));
+    }
+    std::fs::rename(&part, path)
+        .map_err(|e| SweepError::Output(format!("renaming {}: {e}", part.display())))
+}
+
+fn write_file(part: &Path, spec: &Spec, r: &Replica, out: &Outcome) -> hdf5::Result<()> {
+    let file = hdf5::File::create(part)?;
+    let w = Writer {
+        compression: spec.output.compression,
+    };
+    // H5MD metadata.
+    let h5md = file.create_group("h5md")?;
+    h5md.new_attr::<i32>()
+        .shape(2)
+        .create("version")?
+        .write(&[1, 1][..])?;
+    let author = h5md.create_group("author")?;
+    attr_str(&author, "name", &spec.output.author)?;
+    let creator = h5md.create_group("creator")?;
+    attr_str(&creator, "name", "edmd")?;
+    attr_str(&creator, "version", env!("CARGO_PKG_VERSION"))?;
+
+    // Parameters and results.
+    let p = file.create_group("parameters")?;
+    attr_i64(&p, "schema_version", SCHEMA_VERSION)?;
+    attr_str(&p, "spec", &spec.canonical_json())?;
+    attr_str(&p, "spec_hash", &spec.hash())?;
+    attr_str(&p, "sweep_name", &spec.name)?;
+    attr_str(&p, "engine_version", env!("CARGO_PKG_VERSION"))?;
+    attr_str(&p, "git_commit", GIT_COMMIT)?;
+    attr_i64(&p, "index", r.index as i64)?;
+    attr_i64(&p, "dim", r.dim as i64)?;
+    attr_str(&p, "boundary", r.boundary.name())?;
+    attr_f64(&p, "eps", r.eps)?;
+    attr_f64(&p, "phi", r.phi())?;
+    attr_f64(&p, "box_side", r.side())?;
+    attr_i64(&p, "n", r.n as i64)?;
+    attr_i64(&p, "seed_index", r.seed_index as i64)?;
+    attr_u64(&p, "seed", r.seed)?;
+    attr_str(&p, "remedy", &r.remedy.label())?;
+    attr_str(
+        &p,
+        "rule",
+        &serde_json::to_string(&spec.rule).expect("rule"),
+    )?;
+    attr_str(&p, "status", out.status.name())?;
+    attr_str(&p, "message", &out.message)?;
+    attr_f64(&p, "t0", out.t0)?;
+    let last = |v: &[f64]| v.last().copied().unwrap_or(f64::NAN);
+    attr_f64(&p, "final_tau", last(&out.series.tau))?;
+    attr_f64(&p, "final_time", last(&out.series.time))?;
+    attr_f64(
+        &p,
+        "final_ln_temperature_ratio",
+        last(&out.series.ln_temperature) - out.t0.ln(),
+    )?;
+    attr_u64(&p, "collisions", out.collisions)?;
+    let (ct, ctau) = out.collapse.unwrap_or((f64::NAN, f64::NAN));
+    attr_f64(&p, "collapse_time", ct)?;
+    attr_f64(&p, "collapse_tau", ctau)?;
+    attr_f64(&p, "wall_s", out.wall_s)?;
+    let spec_group = p.create_group("spec")?;
+    let tree = serde_json::to_value(spec).expect("spec serialises");
+    json_attrs(&spec_group, "", &tree)?;
+
+    if out.status == Status::Failed {
+        return file.close();
+    }
+
+    // Particles.
+    let d = r.dim;
+    let gas = file.create_group("particles")?.create_group("gas")?;
+    let bx = gas.create_group("box")?;
+    attr_i64(&bx, "dimension", d as i64)?;
+    let boundary: Vec<VarLenUnicode> = r.boundary.h5md_boundary(d).iter().map(|s| vlu(s)).collect();
+    bx.new_attr::<VarLenUnicode>()
+        .shape(d)
+        .create("boundary")?
+        .write(&boundary[..])?;
+    bx.new_dataset_builder()
+        .with_data(&Array1::from(out.box_len.clone()))
+        .create("edges")?;
+    gas.new_dataset_builder()
+        .with_data(&Array1::from(out.mass.clone()))
+        .create("mass")?;
+    gas.new_dataset_builder()
+        .with_data(&Array1::from(out.radius.clone()))
+        .create("radius")?;
+    if !out.snapshots.is_empty() {
+        w.trajectory(&gas, "position", &out.snapshots, r.n, d, |s| &s.position)?;
+        w.trajectory(&gas, "velocity", &out.snapshots, r.n, d, |s| &s.velocity)?;
+    }
+
+    // Observables.
+    let obs = file.create_group("observables")?;
+    let s = &out.series;
+    let columns: [(&str, &[f64]); 9] = [
+        ("tau", &s.tau),
+        ("temperature", &s.temperature),
+        ("ln_temperature", &s.ln_temperature),
+        ("kinetic_energy", &s.kinetic_energy),
+        ("kurtosis", &s.kurtosis),
+        ("compressibility", &s.compressibility),
+        ("pressure", &s.pressure),
+        ("momentum_error", &s.momentum_error),
+        ("haff_temperature", &s.haff_temperature),
+    ];
+    for (name, values) in columns {
+        w.observable(&obs, name, &s.step, &s.time, values)?;
+    }
+    let collisions: Vec<f64> = s.step.iter().map(|&c| c as f64).collect();
+    w.observable(&obs, "collisions", &s.step, &s.time, &collisions)?;
+    let walls: Vec<f64> = s.wall_collisions.iter().map(|&c| c as f64).collect();
+    w.observable(&obs, "wall_collisions", &s.step, &s.time, &walls)?;
+    file.close()
+}
+
+fn read_str(g: &Group, name: &str) -> hdf5::Result<String> {
+    Ok(g.attr(name)?
+        .read_scalar::<VarLenUnicode>()?
+        .as_str()
+        .to_string())
+}
+
+fn read_f64(g: &Group, name: &str) -> hdf5::Result<f64> {
+    g.attr(name)?.read_scalar::<f64>()
+}
+
+fn read_i64(g: &Group, name: &str) -> hdf5::Result<i64> {
+    g.attr(name)?.read_scalar::<i64>()
+}
+
+/// Reads the index record of a replica file, checking its schema version and spec hash.
+pub fn read_record(path: &Path, spec_hash: &str) -> Result<Record, SweepError> {
+    let err = |e: hdf5::Error| SweepError::Output(format!("{}: {e}", path.display()));
+    let file = hdf5::File::open(path).map_err(err)?;
+    let p = file.group("parameters").map_err(err)?;
+    let version = read_i64(&p, "schema_version").map_err(err)?;
+    if version != SCHEMA_VERSION {
+        return Err(SweepError::Output(format!(
+            "{}: schema_version {version}, this edmd reads {SCHEMA_VERSION}",
+            path.display()
+        )));
+    }
+    let hash = read_str(&p, "spec_hash").map_err(err)?;
+    if hash != spec_hash {
+        return Err(SweepError::Output(format!(
+            "{}: written by a different spec (hash {hash}, expected {spec_hash})",
+            path.display()
+        )));
+    }
+    let rec = (|| -> hdf5::Result<Record> {
+        Ok(Record {
+            index: read_i64(&p, "index")? as usize,
+            file: path
+                .file_name()
+                .map(|f| f.to_string_lossy().into_owned())
+                .unwrap_or_default(),
+            status: read_str(&p, "status")?,
+            message: read_str(&p, "message")?,
+            dim: read_i64(&p, "dim")? as usize,
+            boundary: read_str(&p, "boundary")?,
+            eps: read_f64(&p, "eps")?,
+            phi: read_f64(&p, "phi")?,
+            box_side: read_f64(&p, "box_side")?,
+            n: read_i64(&p, "n")? as usize,
+            seed_index: read_i64(&p, "seed_index")? as u32,
+            seed: p.attr("seed")?.read_scalar::<u64>()?,
+            remedy: read_str(&p, "remedy")?,
+            tau: read_f64(&p, "final_tau")?,
+            time: read_f64(&p, "final_time")?,
+            ln_temperature_ratio: read_f64(&p, "final_ln_temperature_ratio")?,
+            collisions: p.attr("collisions")?.read_scalar::<u64>()?,
+            collapse_tau: read_f64(&p, "collapse_tau")?,
+            wall_s: read_f64(&p, "wall_s")?,
+        })
+    })()
+    .map_err(err)?;
+    if Status::parse(&rec.status).is_none() {
+        return Err(SweepError::Output(format!(
+            "{}: unknown status {:?}",
+            path.display(),
+            rec.status
+        )));
+    }
+    Ok(rec)
+}

@@ -1,0 +1,246 @@
+//! `edmd`: run sweeps of granular-gas simulations and summarise them.
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+use edmd_sweep::output::OutDir;
+use edmd_sweep::run::{run_sweep, RunOptions};
+use edmd_sweep::spec::{Shard, Spec};
+use edmd_sweep::summary::{phase_table, render, Format};
+use edmd_sweep::{merge, SweepError, QUICK_SPEC};
+
+const EXAMPLES: &str = "\
+Examples:
+  edmd run                                   quick default sweep into edmd-out/quick, phase table
+  edmd run sweeps/mcnamara-young.json -o my  the McNamara-Young box, all cores
+  edmd run SPEC -o OUT --threads 2           at most two cores
+  edmd run SPEC -o OUT --shard 3/8           the 4th of 8 shares (e.g. a Slurm array task)
+  edmd merge -o OUT A B C                    gather shard outputs A, B, C into OUT, build the index
+  edmd status OUT                            how far a sweep has got
+  edmd summarize OUT --format csv            the phase table as CSV
+  edmd validate-spec SPEC                    check a spec without running it
+
+Rerunning the same `edmd run` resumes a killed sweep: finished replicas are kept, partial ones redone.
+Exit status: 0 success; 1 bad input or I/O error; 2 the sweep ran but a replica failed, collapsed or
+is missing. Spec format: docs/sweep-spec.md.";
+
+/// Event-driven molecular dynamics of granular gases: parameter sweeps over (eps, phi or L, N, seed).
+#[derive(Debug, Parser)]
+#[command(name = "edmd", version, about, after_help = EXAMPLES)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Run a sweep (or, with no SPEC, the embedded quick default sweep) and print its phase table.
+    Run {
+        /// Sweep spec (JSON); omitted: the quick default sweep (sweeps/quick.json).
+        spec: Option<PathBuf>,
+        /// Output directory [default: edmd-out/<spec name>].
+        #[arg(short, long)]
+        out: Option<PathBuf>,
+        /// Worker threads [default: every core].
+        #[arg(short = 'j', long)]
+        threads: Option<usize>,
+        /// Run only share K of N (0-based): replicas whose index is K modulo N.
+        #[arg(long, value_name = "K/N")]
+        shard: Option<String>,
+        /// Replace an output directory that holds a different sweep (deletes its files).
+        #[arg(long)]
+        force: bool,
+        /// No progress bar (it is also off when stderr is not a terminal).
+        #[arg(short, long)]
+        quiet: bool,
+        /// Format of the phase table printed at the end.
+        #[arg(long, value_enum, default_value_t = Format::Table)]
+        format: Format,
+    },
+    /// Show how many replicas of a sweep output are finished, failed, partial or pending.
+    Status {
+        /// Sweep output directory.
+        out: PathBuf,
+    },
+    /// Gather shard outputs of one sweep into one directory and build its index.
+    Merge {
+        /// Shard output directories (all of the same spec).
+        #[arg(required = true)]
+        inputs: Vec<PathBuf>,
+        /// Target directory [default: the first input, indexed in place].
+        #[arg(short, long)]
+        out: Option<PathBuf>,
+    },
+    /// Print the phase table of a sweep output: one row per grid point, aggregated over seeds.
+    Summarize {
+        /// Sweep output directory.
+        out: PathBuf,
+        /// Output format.
+        #[arg(long, value_enum, default_value_t = Format::Table)]
+        format: Format,
+    },
+    /// Check a sweep spec and print the size of its grid, without running anything.
+    ValidateSpec {
+        /// Sweep spec (JSON).
+        spec: PathBuf,
+    },
+}
+
+fn load_spec(path: Option<&Path>) -> Result<Spec, SweepError> {
+    match path {
+        None => Spec::from_json(QUICK_SPEC),
+        Some(p) => {
+            let text = std::fs::read_to_string(p)
+                .map_err(|e| SweepError::Usage(format!("cannot read spec {}: {e}", p.display())))?;
+            Spec::from_json(&text).map_err(|e| match e {
+                SweepError::Spec(m) => SweepError::Spec(format!("{}: {m}", p.display())),
+                other => other,
+            })
+        }
+    }
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    match execute(cli.command) {
+        Ok(code) => code,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(1)
+        }
+    }
+}
+
+fn execute(command: Command) -> Result<ExitCode, SweepError> {
+    match command {
+        Command::Run {
+            spec,
+            out,
+            threads,
+            shard,
+            force,
+            quiet,
+            format,
+        } => {
+            let spec_value = load_spec(spec.as_deref())?;
+            let shard = shard.as_deref().map(Shard::parse).transpose()?;
+            if threads == Some(0) {
+                return Err(SweepError::Usage(
+                    "--threads 0: need at least one thread".into(),
+                ));
+            }
+            let root = out.unwrap_or_else(|| Path::new("edmd-out").join(&spec_value.name));
+            let dir = OutDir::prepare(&root, &spec_value, force)?;
+            let opts = RunOptions {
+                threads,
+                shard,
+                force,
+                quiet,
+            };
+            let report = run_sweep(&spec_value, &dir, &opts)?;
+            eprintln!(
+                "{}: ran {} of {} replicas{} ({} pair collisions in {:.1} s, {:.3e} collisions/s) into {}",
+                spec_value.name,
+                report.ran,
+                report.in_shard,
+                shard.map(|s| format!(" of shard {}/{}", s.k, s.n)).unwrap_or_default(),
+                report.collisions,
+                report.wall_s,
+                report.collisions as f64 / report.wall_s.max(1e-9),
+                root.display()
+            );
+            match &report.records {
+                Some(records) => print!("{}", render(&phase_table(&spec_value, records), format)),
+                None => eprintln!(
+                    "other shards are still missing: once all have run, `edmd merge {}` builds the index",
+                    root.display()
+                ),
+            }
+            if report.problems.is_empty() {
+                Ok(ExitCode::SUCCESS)
+            } else {
+                for (r, status, message) in &report.problems {
+                    eprintln!("{}: {r}: {message}", status.name());
+                }
+                eprintln!(
+                    "error: {} replica(s) failed or collapsed (listed above; their files record why)",
+                    report.problems.len()
+                );
+                Ok(ExitCode::from(2))
+            }
+        }
+        Command::Status { out } => {
+            let (dir, spec) = OutDir::open(&out)?;
+            let records = dir.records(&spec)?;
+            let partial = spec
+                .replicas()
+                .iter()
+                .filter(|r| dir.part_path(r).exists())
+                .count();
+            let count = |s: &str| records.iter().filter(|r| r.status == s).count();
+            println!(
+                "{}: {} replicas: {} done, {} collapsed, {} failed, {} in flight or partial, {} pending",
+                spec.name,
+                records.len(),
+                count("done"),
+                count("collapsed"),
+                count("failed"),
+                partial,
+                count("missing") - partial
+            );
+            for r in records
+                .iter()
+                .filter(|r| r.status == "failed" || r.status == "collapsed")
+            {
+                println!("  {} r{:05}: {}", r.status, r.index, r.message);
+            }
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::Merge { inputs, out } => {
+            let target = out.unwrap_or_else(|| inputs[0].clone());
+            let records = merge::merge(&inputs, &target)?;
+            let missing: Vec<usize> = records
+                .iter()
+                .filter(|r| r.status == "missing")
+                .map(|r| r.index)
+                .collect();
+            eprintln!(
+                "merged {} of {} replicas into {}",
+                records.len() - missing.len(),
+                records.len(),
+                target.display()
+            );
+            if missing.is_empty() {
+                Ok(ExitCode::SUCCESS)
+            } else {
+                eprintln!(
+                    "error: {} replica(s) missing (indices {:?}); rerun the shards that hold them, then merge again",
+                    missing.len(),
+                    missing
+                );
+                Ok(ExitCode::from(2))
+            }
+        }
+        Command::Summarize { out, format } => {
+            let (dir, spec) = OutDir::open(&out)?;
+            let records = dir.records(&spec)?;
+            print!("{}", render(&phase_table(&spec, &records), format));
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::ValidateSpec { spec } => {
+            let s = load_spec(Some(&spec))?;
+            let replicas = s.replicas();
+            let collisions: f64 = replicas.iter().map(|r| r.n as f64 * s.stop.tau_max).sum();
+            println!(
+                "{}: valid; {} replicas, at most {:.3e} pair collisions (tau_max = {})",
+                spec.display(),
+                replicas.len(),
+                collisions,
+                s.stop.tau_max
+            );
+            Ok(ExitCode::SUCCESS)
+        }
+    }
+}

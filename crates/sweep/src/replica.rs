@@ -1,0 +1,424 @@
+//! Running one replica: build the scene, rule and remedy as monomorphised types, run to the stop
+//! condition, and collect the observables and snapshots in memory.
+
+use std::time::Instant;
+
+use edmd_core::theory::haff_temperature_tau;
+use edmd_core::{
+    Boundary, Channel, CollisionRule, ConstantRestitution, EdmdError, InitParams, Periodic,
+    RandomRotation, RunEnd, Schedule, Simulation, Stop, TcModel, ThesisRestitution,
+    ThresholdRestitution, Vector, Velocities, VirialMeter, Viscoelastic, Walls,
+};
+
+use crate::spec::{BoundaryKind, Remedy, Replica, RuleSpec, Spec, VelocityKind};
+use crate::SweepError;
+
+/// How a replica ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Status {
+    /// Reached its stop condition (or ran out of events).
+    Done,
+    /// Inelastic collapse was detected; the data up to the collapse are kept.
+    Collapsed,
+    /// Could not be set up (e.g. a start that cannot reach the density).
+    Failed,
+}
+
+impl Status {
+    /// The name used in files and tables.
+    pub fn name(self) -> &'static str {
+        match self {
+            Status::Done => "done",
+            Status::Collapsed => "collapsed",
+            Status::Failed => "failed",
+        }
+    }
+
+    /// Parses a name written by [`Status::name`].
+    pub fn parse(s: &str) -> Option<Status> {
+        match s {
+            "done" => Some(Status::Done),
+            "collapsed" => Some(Status::Collapsed),
+            "failed" => Some(Status::Failed),
+            _ => None,
+        }
+    }
+}
+
+/// Observables sampled at the points of the schedule.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Series {
+    /// Pair collisions C (the H5MD `step`).
+    pub step: Vec<i64>,
+    /// Physical time.
+    pub time: Vec<f64>,
+    /// τ = C/N.
+    pub tau: Vec<f64>,
+    /// Granular temperature T (underflows to 0 below 1e-308; see `ln_temperature`).
+    pub temperature: Vec<f64>,
+    /// ln T, finite however deep the cooling.
+    pub ln_temperature: Vec<f64>,
+    /// Total kinetic energy.
+    pub kinetic_energy: Vec<f64>,
+    /// Speed kurtosis ⟨v⁴⟩/⟨v²⟩².
+    pub kurtosis: Vec<f64>,
+    /// Particle–wall collisions.
+    pub wall_collisions: Vec<i64>,
+    /// Compressibility factor Z = pV/(NT) from the collision virial since the previous sample
+    /// (NaN at the first sample).
+    pub compressibility: Vec<f64>,
+    /// Pressure p = Z N T / V (NaN at the first sample).
+    pub pressure: Vec<f64>,
+    /// |Σ m v| / Σ m|v|: momentum conservation (round-off level in periodic boxes).
+    pub momentum_error: Vec<f64>,
+    /// Haff's law T0 exp(−k(ε) τ) (first Sonine order), for the constant-restitution rule only.
+    pub haff_temperature: Vec<f64>,
+}
+
+/// Positions and velocities at one instant, in the original particle order.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Snapshot {
+    /// Pair collisions C.
+    pub step: i64,
+    /// Physical time.
+    pub time: f64,
+    /// Positions, N × D, row-major.
+    pub position: Vec<f64>,
+    /// Velocities, N × D, row-major.
+    pub velocity: Vec<f64>,
+}
+
+/// Everything a replica produced.
+#[derive(Debug, Clone)]
+pub struct Outcome {
+    /// How it ended.
+    pub status: Status,
+    /// Why (empty when done normally).
+    pub message: String,
+    /// Sampled observables.
+    pub series: Series,
+    /// Stored snapshots.
+    pub snapshots: Vec<Snapshot>,
+    /// Box sides.
+    pub box_len: Vec<f64>,
+    /// Particle radii.
+    pub radius: Vec<f64>,
+    /// Particle masses.
+    pub mass: Vec<f64>,
+    /// Initial temperature T0.
+    pub t0: f64,
+    /// Pair collisions run.
+    pub collisions: u64,
+    /// (time, τ) of a detected collapse.
+    pub collapse: Option<(f64, f64)>,
+    /// Wall-clock seconds spent simulating.
+    pub wall_s: f64,
+}
+
+impl Outcome {
+    fn failed(message: String) -> Outcome {
+        Outcome {
+            status: Status::Failed,
+            message,
+            series: Series::default(),
+            snapshots: Vec::new(),
+            box_len: Vec::new(),
+            radius: Vec::new(),
+            mass: Vec::new(),
+            t0: f64::NAN,
+            collisions: 0,
+            collapse: None,
+            wall_s: 0.0,
+        }
+    }
+
+    /// The last sample's τ, or 0.
+    pub fn final_tau(&self) -> f64 {
+        self.series.tau.last().copied().unwrap_or(0.0)
+    }
+}
+
+/// Static checks of one replica that need no simulation: the box holds a cell list and the rule
+/// can be built. Errors name the replica.
+pub fn check(spec: &Spec, r: &Replica) -> Result<(), SweepError> {
+    let side = r.side();
+    if !(side >= 3.0) {
+        return Err(SweepError::Spec(format!(
+            "{r}: box side L = {side:.3} is below 3 particle diameters (the smallest cell list); raise N or lower phi"
+        )));
+    }
+    let phi = r.phi();
+    if !(phi < crate::spec::close_packing(r.dim)) {
+        return Err(SweepError::Spec(format!(
+            "{r}: packing fraction phi = {phi:.4} is above close packing ({:.4})",
+            crate::spec::close_packing(r.dim)
+        )));
+    }
+    base_rule_check(spec, r).map_err(|e| SweepError::Spec(format!("{r}: {e}")))
+}
+
+fn base_rule_check(spec: &Spec, r: &Replica) -> Result<(), EdmdError> {
+    match spec.rule {
+        RuleSpec::Constant => ConstantRestitution::new(r.eps).map(drop),
+        RuleSpec::Threshold { delta, eps_low } => {
+            ThresholdRestitution::new(r.eps, eps_low, delta).map(drop)
+        }
+        RuleSpec::Thesis { v0 } => ThesisRestitution::new(r.eps, v0).map(drop),
+        RuleSpec::Viscoelastic { speed } => viscoelastic(r.eps, speed).map(drop),
+    }
+}
+
+/// Damping such that two unit-mass, unit-diameter particles meet with ε at `speed`. The stiffness
+/// only sets the unit of the damping, so Young's modulus 1 and Poisson ratio 0.3 are used.
+fn viscoelastic(eps: f64, speed: f64) -> Result<Viscoelastic, EdmdError> {
+    Viscoelastic::from_reference(eps, speed, 0.5, 0.25, 1.0, 0.3)
+}
+
+/// Runs a replica. `progress` is called with the number of new pair collisions every so often.
+pub fn run(spec: &Spec, r: &Replica, progress: &(dyn Fn(u64) + Sync)) -> Outcome {
+    let start = Instant::now();
+    let result = match r.dim {
+        2 => by_boundary::<2>(spec, r, progress),
+        3 => by_boundary::<3>(spec, r, progress),
+        d => Err(EdmdError::invalid("dim", d, "dimension must be 2 or 3")),
+    };
+    let mut outcome = result.unwrap_or_else(|e| Outcome::failed(e.to_string()));
+    outcome.wall_s = start.elapsed().as_secs_f64();
+    outcome
+}
+
+fn by_boundary<const D: usize>(
+    spec: &Spec,
+    r: &Replica,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<Outcome, EdmdError> {
+    match r.boundary {
+        BoundaryKind::Periodic => by_rule::<D, Periodic>(spec, r, progress),
+        BoundaryKind::Walls => by_rule::<D, Walls>(spec, r, progress),
+        BoundaryKind::Channel => by_rule::<D, Channel>(spec, r, progress),
+    }
+}
+
+fn by_rule<const D: usize, B: Boundary>(
+    spec: &Spec,
+    r: &Replica,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<Outcome, EdmdError> {
+    match spec.rule {
+        RuleSpec::Constant => {
+            by_remedy::<D, B, _>(spec, r, ConstantRestitution::new(r.eps)?, progress)
+        }
+        RuleSpec::Threshold { delta, eps_low } => by_remedy::<D, B, _>(
+            spec,
+            r,
+            ThresholdRestitution::new(r.eps, eps_low, delta)?,
+            progress,
+        ),
+        RuleSpec::Thesis { v0 } => {
+            by_remedy::<D, B, _>(spec, r, ThesisRestitution::new(r.eps, v0)?, progress)
+        }
+        RuleSpec::Viscoelastic { speed } => {
+            by_remedy::<D, B, _>(spec, r, viscoelastic(r.eps, speed)?, progress)
+        }
+    }
+}
+
+fn by_remedy<const D: usize, B: Boundary, R: CollisionRule<State = ()>>(
+    spec: &Spec,
+    r: &Replica,
+    rule: R,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<Outcome, EdmdError> {
+    match r.remedy {
+        Remedy::None => simulate::<D, B, R>(spec, r, rule, progress),
+        Remedy::Tc { tc } => simulate::<D, B, _>(spec, r, TcModel::new(rule, tc)?, progress),
+        Remedy::Rotation { theta_max_deg } => simulate::<D, B, _>(
+            spec,
+            r,
+            RandomRotation::new(rule, theta_max_deg.to_radians())?,
+            progress,
+        ),
+    }
+}
+
+/// Pair collisions between progress reports (and checks of the stop condition).
+const CHUNK_COLLISIONS: u64 = 200_000;
+
+fn flat<const D: usize>(v: &[Vector<D>]) -> Vec<f64> {
+    v.iter().flat_map(|x| x.iter().copied()).collect()
+}
+
+fn simulate<const D: usize, B: Boundary, R: CollisionRule>(
+    spec: &Spec,
+    r: &Replica,
+    rule: R,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<Outcome, EdmdError> {
+    let mut p = InitParams::<D>::in_box(r.n, Vector::<D>::repeat(r.side()));
+    p.seed = r.seed;
+    p.velocities = match spec.init.velocities {
+        VelocityKind::Maxwell => Velocities::Maxwell,
+        VelocityKind::Uniform => Velocities::Uniform,
+    };
+    p.melt_tau = spec.init.melt_tau;
+    let mut sim: Simulation<D, B, R> = p.build::<B, R>(rule)?;
+    let t0 = sim.temperature();
+    let n = r.n as f64;
+    let volume = sim.box_len().iter().product::<f64>();
+    let haff = matches!(spec.rule, RuleSpec::Constant);
+
+    let mut snapshot_points = spec.snapshots.at.clone();
+    snapshot_points.retain(|&t| t <= spec.stop.tau_max);
+    let schedule = Schedule {
+        linear: spec.samples.every,
+        log_per_decade: (spec.samples.per_decade > 0).then_some(spec.samples.per_decade),
+        log_start: spec.samples.log_from,
+        points: snapshot_points
+            .iter()
+            .copied()
+            .chain([0.0, spec.stop.tau_max])
+            .collect(),
+    };
+
+    let mut series = Series::default();
+    let mut snapshots = Vec::new();
+    let mut meter: Option<VirialMeter> = None;
+    let mut reported = 0u64;
+    let mut sampled_at: Option<u64> = None;
+
+    let sample = |sim: &Simulation<D, B, R>,
+                  series: &mut Series,
+                  snapshots: &mut Vec<Snapshot>,
+                  meter: &mut Option<VirialMeter>,
+                  snapshot: bool| {
+        let o = sim.observe();
+        let z = match meter {
+            Some(m) if sim.time() > 0.0 => {
+                let reading = m.read(sim);
+                if reading.duration > 0.0 {
+                    reading.z
+                } else {
+                    f64::NAN
+                }
+            }
+            _ => f64::NAN,
+        };
+        *meter = Some(VirialMeter::start(sim));
+        series.step.push(o.pair_collisions as i64);
+        series.time.push(o.time);
+        series.tau.push(o.tau);
+        series.temperature.push(o.temperature);
+        series.ln_temperature.push(o.ln_temperature);
+        series.kinetic_energy.push(o.kinetic_energy);
+        series.kurtosis.push(o.kurtosis);
+        series.wall_collisions.push(o.wall_collisions as i64);
+        series.compressibility.push(z);
+        series.pressure.push(z * n * o.temperature / volume);
+        series
+            .momentum_error
+            .push(o.momentum.norm() / o.momentum_scale.max(f64::MIN_POSITIVE));
+        series.haff_temperature.push(if haff {
+            haff_temperature_tau(D, r.eps, t0, o.tau)
+        } else {
+            f64::NAN
+        });
+        if snapshot {
+            snapshots.push(Snapshot {
+                step: o.pair_collisions as i64,
+                time: o.time,
+                position: flat(&sim.positions()),
+                velocity: flat(&sim.velocities()),
+            });
+        }
+    };
+
+    let mut next = schedule.first_at_or_after(0.0);
+    let mut end = RunEnd::Reached;
+    let mut stopped_cold = false;
+    while let Some(point) = next {
+        // Advance to the sample point in chunks, reporting progress.
+        let target = (point * n).ceil() as u64;
+        while end == RunEnd::Reached && sim.counters().pair_collisions < target {
+            let k = (sim.counters().pair_collisions + CHUNK_COLLISIONS).min(target);
+            end = sim.run(Stop::Tau(k as f64 / n));
+            let c = sim.counters().pair_collisions;
+            progress(c - reported);
+            reported = c;
+        }
+        if end != RunEnd::Reached {
+            break;
+        }
+        let snap = snapshot_points.contains(&point);
+        sample(&sim, &mut series, &mut snapshots, &mut meter, snap);
+        sampled_at = Some(sim.counters().pair_collisions);
+        if let Some(ratio) = spec.stop.temperature_ratio {
+            if sim.ln_temperature() - t0.ln() < ratio.ln() {
+                stopped_cold = true;
+                break;
+            }
+        }
+        next = schedule
+            .next_after(point)
+            .filter(|&t| t <= spec.stop.tau_max);
+    }
+    let c = sim.counters().pair_collisions;
+    progress(c - reported);
+    // The final state: sampled once, with a snapshot when asked.
+    let final_snapshot = spec.snapshots.last;
+    if sampled_at != Some(c) {
+        sample(
+            &sim,
+            &mut series,
+            &mut snapshots,
+            &mut meter,
+            final_snapshot,
+        );
+    } else if final_snapshot && snapshots.last().map(|s| s.step) != Some(c as i64) {
+        snapshots.push(Snapshot {
+            step: c as i64,
+            time: sim.time(),
+            position: flat(&sim.positions()),
+            velocity: flat(&sim.velocities()),
+        });
+    }
+    let (status, message, collapse) = match end {
+        RunEnd::Collapsed => {
+            let col = sim
+                .collapse()
+                .expect("a collapsed run records its collapse");
+            (
+                Status::Collapsed,
+                format!(
+                    "inelastic collapse ({:?}) at time {:.6e}, tau {:.4}",
+                    col.reason, col.time, col.tau
+                ),
+                Some((col.time, col.tau)),
+            )
+        }
+        RunEnd::Exhausted => (
+            Status::Done,
+            "no events left: every particle at rest".into(),
+            None,
+        ),
+        RunEnd::Reached if stopped_cold => (
+            Status::Done,
+            "stopped at stop.temperature_ratio".into(),
+            None,
+        ),
+        RunEnd::Reached => (Status::Done, String::new(), None),
+    };
+    let radius = vec![p.radius; r.n];
+    Ok(Outcome {
+        status,
+        message,
+        series,
+        snapshots,
+        box_len: sim.box_len().iter().copied().collect(),
+        radius,
+        mass: sim.masses(),
+        t0,
+        collisions: c,
+        collapse,
+        wall_s: 0.0,
+    })
+}

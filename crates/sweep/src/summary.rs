@@ -1,0 +1,230 @@
+//! The phase table: one row per grid point (all parameters but the seed), aggregated over seeds, with
+//! the theory's critical sizes for comparison.
+
+use edmd_core::theory::{critical_sizes, haff_rate, Transport};
+use serde::Serialize;
+
+use crate::h5md::Record;
+use crate::output::csv_field;
+use crate::spec::{RuleSpec, Spec};
+
+/// One grid point of a sweep.
+#[derive(Debug, Clone, Serialize)]
+pub struct PointRow {
+    /// Dimension.
+    pub dim: usize,
+    /// Boundary.
+    pub boundary: String,
+    /// Remedy label.
+    pub remedy: String,
+    /// Particle number.
+    pub n: usize,
+    /// Packing fraction.
+    pub phi: f64,
+    /// Box side.
+    pub box_side: f64,
+    /// Restitution.
+    pub eps: f64,
+    /// Seeds in the spec.
+    pub seeds: usize,
+    /// Seeds finished normally.
+    pub done: usize,
+    /// Seeds that collapsed.
+    pub collapsed: usize,
+    /// Seeds that failed to start.
+    pub failed: usize,
+    /// Seeds not (yet) run.
+    pub missing: usize,
+    /// Median τ at the end.
+    pub tau_end: f64,
+    /// Median log10(T/T0) at the end.
+    pub log10_t_ratio: f64,
+    /// log10 of Haff's law at the median final τ (constant-restitution rule only, else NaN).
+    pub log10_t_haff: f64,
+    /// L / L⊥ (Enskog; L⊥ halved for walled axes).
+    pub l_over_l_perp: f64,
+    /// L / L∥ (Enskog; L∥ halved for walled axes).
+    pub l_over_l_par: f64,
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.retain(|x| !x.is_nan());
+    if v.is_empty() {
+        return f64::NAN;
+    }
+    v.sort_by(f64::total_cmp);
+    let m = v.len() / 2;
+    if v.len() % 2 == 1 {
+        v[m]
+    } else {
+        0.5 * (v[m - 1] + v[m])
+    }
+}
+
+/// Aggregates records per grid point, in the spec's order.
+pub fn phase_table(spec: &Spec, records: &[Record]) -> Vec<PointRow> {
+    let replicas = spec.replicas();
+    let mut keys: Vec<String> = Vec::new();
+    let mut groups: Vec<Vec<&Record>> = Vec::new();
+    for (r, rec) in replicas.iter().zip(records) {
+        let key = r.point_key();
+        match keys.iter().position(|k| *k == key) {
+            Some(i) => groups[i].push(rec),
+            None => {
+                keys.push(key);
+                groups.push(vec![rec]);
+            }
+        }
+    }
+    groups
+        .into_iter()
+        .map(|g| {
+            let first = g[0];
+            let count = |s: &str| g.iter().filter(|r| r.status == s).count();
+            let ran: Vec<&&Record> = g
+                .iter()
+                .filter(|r| r.status == "done" || r.status == "collapsed")
+                .collect();
+            let tau_end = median(ran.iter().map(|r| r.tau).collect());
+            let ln10 = std::f64::consts::LN_10;
+            let log10_t_ratio = median(ran.iter().map(|r| r.ln_temperature_ratio / ln10).collect());
+            let log10_t_haff = if matches!(spec.rule, RuleSpec::Constant) {
+                -haff_rate(first.dim, first.eps) * tau_end / ln10
+            } else {
+                f64::NAN
+            };
+            let (mut lp, mut lq) = if first.eps < 1.0 {
+                critical_sizes(first.dim, first.eps, first.phi, 1.0, Transport::Enskog)
+            } else {
+                (f64::INFINITY, f64::INFINITY)
+            };
+            if first.boundary != "periodic" {
+                lp *= 0.5;
+                lq *= 0.5;
+            }
+            PointRow {
+                dim: first.dim,
+                boundary: first.boundary.clone(),
+                remedy: first.remedy.clone(),
+                n: first.n,
+                phi: first.phi,
+                box_side: first.box_side,
+                eps: first.eps,
+                seeds: g.len(),
+                done: count("done"),
+                collapsed: count("collapsed"),
+                failed: count("failed"),
+                missing: count("missing"),
+                tau_end,
+                log10_t_ratio,
+                log10_t_haff,
+                l_over_l_perp: first.box_side / lp,
+                l_over_l_par: first.box_side / lq,
+            }
+        })
+        .collect()
+}
+
+/// Output format of `edmd summarize`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Format {
+    /// Aligned text for the terminal.
+    Table,
+    /// Comma-separated values with a header line.
+    Csv,
+    /// A JSON array of objects.
+    Json,
+}
+
+const HEADER: [&str; 17] = [
+    "D",
+    "boundary",
+    "remedy",
+    "N",
+    "phi",
+    "L",
+    "eps",
+    "seeds",
+    "done",
+    "collapsed",
+    "failed",
+    "missing",
+    "tau_end",
+    "log10(T/T0)",
+    "log10(Haff)",
+    "L/L_perp",
+    "L/L_par",
+];
+
+fn cells(r: &PointRow) -> [String; 17] {
+    let f = |x: f64, p: usize| {
+        if x.is_nan() {
+            "-".to_string()
+        } else {
+            format!("{x:.p$}")
+        }
+    };
+    [
+        r.dim.to_string(),
+        r.boundary.clone(),
+        r.remedy.clone(),
+        r.n.to_string(),
+        f(r.phi, 4),
+        f(r.box_side, 2),
+        r.eps.to_string(),
+        r.seeds.to_string(),
+        r.done.to_string(),
+        r.collapsed.to_string(),
+        r.failed.to_string(),
+        r.missing.to_string(),
+        f(r.tau_end, 1),
+        f(r.log10_t_ratio, 3),
+        f(r.log10_t_haff, 3),
+        f(r.l_over_l_perp, 2),
+        f(r.l_over_l_par, 2),
+    ]
+}
+
+/// Renders the phase table.
+pub fn render(rows: &[PointRow], format: Format) -> String {
+    match format {
+        Format::Json => serde_json::to_string_pretty(rows).expect("rows serialise") + "\n",
+        Format::Csv => {
+            let mut s = HEADER.join(",") + "\n";
+            for r in rows {
+                let c = cells(r);
+                s += &c.iter().map(|x| csv_field(x)).collect::<Vec<_>>().join(",");
+                s.push('\n');
+            }
+            s
+        }
+        Format::Table => {
+            let body: Vec<[String; 17]> = rows.iter().map(cells).collect();
+            let widths: Vec<usize> = (0..17)
+                .map(|i| {
+                    body.iter()
+                        .map(|c| c[i].len())
+                        .chain([HEADER[i].len()])
+                        .max()
+                        .unwrap_or(0)
+                })
+                .collect();
+            let line = |c: &[String]| {
+                c.iter()
+                    .zip(&widths)
+                    .map(|(x, w)| format!("{x:>w$}"))
+                    .collect::<Vec<_>>()
+                    .join("  ")
+                    .trim_end()
+                    .to_string()
+                    + "\n"
+            };
+            let head: Vec<String> = HEADER.iter().map(|s| s.to_string()).collect();
+            let mut s = line(&head);
+            for c in &body {
+                s += &line(c);
+            }
+            s
+        }
+    }
+}
