@@ -151,6 +151,14 @@ fn execute(command: Command) -> Result<ExitCode, SweepError> {
                 report.collisions as f64 / report.wall_s.max(1e-9),
                 root.display()
             );
+            if report.ran > 0 {
+                eprintln!(
+                    "time per replica summed: simulating {:.2} s, writing files {:.3} s ({:.2} % of the total)",
+                    report.simulate_s,
+                    report.write_s,
+                    100.0 * report.write_s / (report.simulate_s + report.write_s).max(1e-12)
+                );
+            }
             match &report.records {
                 Some(records) => print!("{}", render(&phase_table(&spec_value, records), format)),
                 None => eprintln!(

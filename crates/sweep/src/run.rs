@@ -39,6 +39,10 @@ pub struct RunReport {
     pub collisions: u64,
     /// Wall-clock seconds.
     pub wall_s: f64,
+    /// Seconds spent simulating, summed over the replicas run now.
+    pub simulate_s: f64,
+    /// Seconds spent writing replica files, summed over the replicas run now.
+    pub write_s: f64,
     /// The index records of the whole sweep, when every replica is finished (else `None`).
     pub records: Option<Vec<Record>>,
     /// Replicas of this shard that failed or collapsed: (replica, status, message).
@@ -88,6 +92,8 @@ pub fn run_sweep(spec: &Spec, out: &OutDir, opts: &RunOptions) -> Result<RunRepo
     let done_count = AtomicU64::new(0);
     bar.set_message(format!("0/{n_todo} replicas"));
     let collisions = AtomicU64::new(0);
+    let simulate_ns = AtomicU64::new(0);
+    let write_ns = AtomicU64::new(0);
     let first_error: Mutex<Option<SweepError>> = Mutex::new(None);
 
     let work = || {
@@ -105,7 +111,11 @@ pub fn run_sweep(spec: &Spec, out: &OutDir, opts: &RunOptions) -> Result<RunRepo
             if outcome.collisions < est {
                 bar.inc(est - outcome.collisions);
             }
-            if let Err(e) = write_replica(&out.replica_path(r), spec, r, &outcome) {
+            simulate_ns.fetch_add((outcome.wall_s * 1e9) as u64, Ordering::Relaxed);
+            let t = Instant::now();
+            let written = write_replica(&out.replica_path(r), spec, r, &outcome);
+            write_ns.fetch_add(t.elapsed().as_nanos() as u64, Ordering::Relaxed);
+            if let Err(e) = written {
                 first_error.lock().expect("lock").get_or_insert(e);
                 return;
             }
@@ -147,6 +157,8 @@ pub fn run_sweep(spec: &Spec, out: &OutDir, opts: &RunOptions) -> Result<RunRepo
         ran: n_todo,
         collisions: collisions.load(Ordering::Relaxed),
         wall_s: start.elapsed().as_secs_f64(),
+        simulate_s: simulate_ns.load(Ordering::Relaxed) as f64 * 1e-9,
+        write_s: write_ns.load(Ordering::Relaxed) as f64 * 1e-9,
         records,
         problems,
     })

@@ -11,13 +11,32 @@ use serde::{Deserialize, Serialize};
 use crate::SweepError;
 
 /// A value or a list of values (`"eps": 0.9` or `"eps": [0.9, 0.8]`).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize)]
 #[serde(untagged)]
 pub enum OneOrMany<T> {
     /// A single value.
     One(T),
     /// A list of values (must not be empty).
     Many(Vec<T>),
+}
+
+/// Deserialised by hand rather than with `#[serde(untagged)]`, so that an error inside a value
+/// (an unknown field of a grid, say) is reported as such instead of "did not match any variant".
+impl<'de, T: serde::de::DeserializeOwned> Deserialize<'de> for OneOrMany<T> {
+    fn deserialize<De: serde::Deserializer<'de>>(d: De) -> Result<Self, De::Error> {
+        use serde::de::Error;
+        match serde_json::Value::deserialize(d)? {
+            serde_json::Value::Array(items) => items
+                .into_iter()
+                .map(serde_json::from_value)
+                .collect::<Result<Vec<T>, _>>()
+                .map(OneOrMany::Many)
+                .map_err(De::Error::custom),
+            v => serde_json::from_value(v)
+                .map(OneOrMany::One)
+                .map_err(De::Error::custom),
+        }
+    }
 }
 
 impl<T: Clone> OneOrMany<T> {
@@ -314,8 +333,8 @@ pub struct Spec {
     /// Sweep seed; a replica's random stream derives from it and the replica's parameters.
     #[serde(default)]
     pub seed: u64,
-    /// The grid of replicas.
-    pub grid: Grid,
+    /// The grid of replicas, or a list of grids whose replicas are concatenated.
+    pub grid: OneOrMany<Grid>,
     /// The collision rule (default constant restitution).
     #[serde(default)]
     pub rule: RuleSpec,
@@ -492,7 +511,20 @@ impl Spec {
         if self.name.trim().is_empty() {
             return bad("name", &"\"\"", "must not be empty");
         }
-        let g = &self.grid;
+        let grids = self.grid.values();
+        if grids.is_empty() {
+            return bad("grid", &"[]", "no grid: the sweep has no replicas");
+        }
+        for g in &grids {
+            self.validate_grid(g)?;
+        }
+        self.validate_rest()
+    }
+
+    fn validate_grid(&self, g: &Grid) -> Result<(), SweepError> {
+        let bad = |field: &str, value: &dyn fmt::Display, reason: &str| {
+            Err(SweepError::Spec(format!("{field} = {value}: {reason}")))
+        };
         let axes: [(&str, usize); 5] = [
             ("grid.dim", g.dim.values().len()),
             ("grid.boundary", g.boundary.values().len()),
@@ -592,6 +624,13 @@ impl Spec {
                 }
             }
         }
+        Ok(())
+    }
+
+    fn validate_rest(&self) -> Result<(), SweepError> {
+        let bad = |field: &str, value: &dyn fmt::Display, reason: &str| {
+            Err(SweepError::Spec(format!("{field} = {value}: {reason}")))
+        };
         match self.rule {
             RuleSpec::Constant => {}
             RuleSpec::Threshold { delta, eps_low } => {
@@ -658,15 +697,22 @@ impl Spec {
         Ok(())
     }
 
-    /// The replicas in expansion order: dim, boundary, remedy, n, density, eps, seed (seed fastest).
+    /// The replicas in expansion order: grid by grid; within a grid dim, boundary, remedy, n, density,
+    /// eps, seed (seed fastest).
     pub fn replicas(&self) -> Vec<Replica> {
-        let g = &self.grid;
+        let mut out = Vec::new();
+        for g in self.grid.values() {
+            self.expand(&g, &mut out);
+        }
+        out
+    }
+
+    fn expand(&self, g: &Grid, out: &mut Vec<Replica>) {
         let densities: Vec<Density> = match (&g.phi, &g.box_len) {
             (Some(p), _) => p.values().into_iter().map(Density::Phi).collect(),
             (None, Some(l)) => l.values().into_iter().map(Density::Side).collect(),
             (None, None) => Vec::new(),
         };
-        let mut out = Vec::new();
         for dim in g.dim.values() {
             for boundary in g.boundary.values() {
                 for remedy in g.remedy.values() {
@@ -694,7 +740,6 @@ impl Spec {
                 }
             }
         }
-        out
     }
 
     /// The seed of a replica's initial state. It derives from the sweep seed and the parameters that
