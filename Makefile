@@ -1,5 +1,5 @@
 # edmd: event-driven molecular dynamics of granular gases.
-#   make run       engine demo: free cooling against Haff's law
+#   make run       the quick default sweep (sweeps/quick.json): phase table and files in edmd-out/quick
 #   make test      everything CI checks (format, lints, Rust tests, Python tests, benchmark smoke run)
 #   make bench     collisions/s and peak bytes per particle over N and phi (or one case: D= N= PHI= EPS=)
 #   make validate  long equilibrium-accuracy runs (chi against Luding / Carnahan-Starling)
@@ -11,7 +11,7 @@ PYTHON ?= python3
 VENV := .venv
 APT_PACKAGES := libhdf5-dev hdf5-tools pkg-config
 
-.PHONY: all deps build run test test-rust test-python lint bench bench-smoke validate clean
+.PHONY: all deps build run demo cli test test-rust test-python lint bench bench-smoke validate clean
 
 all: build
 
@@ -32,7 +32,14 @@ build:
 	$(CARGO) build --release --workspace --all-targets
 
 run:
+	$(CARGO) run --release -q -p edmd-sweep --bin edmd -- run
+
+demo:
 	$(CARGO) run --release -q -p edmd-core --example cooling
+
+# The release binary the Python tests drive.
+cli:
+	$(CARGO) build --release -q -p edmd-sweep --bin edmd
 
 lint:
 	$(CARGO) fmt --all -- --check
@@ -41,8 +48,8 @@ lint:
 test-rust:
 	$(CARGO) test --workspace
 
-test-python:
-	@if [ -f analysis/pyproject.toml ]; then $(VENV)/bin/python -m pytest -q analysis; else echo "no analysis/ package yet: no Python tests"; fi
+test-python: cli
+	EDMD_BIN=$(CURDIR)/target/release/edmd $(VENV)/bin/python -m pytest -q analysis
 
 bench-smoke:
 	$(CARGO) bench --bench calendar -- --quick --noplot

@@ -32,6 +32,7 @@ pub mod collide;
 pub mod error;
 pub mod init;
 pub mod observe;
+pub mod order;
 pub mod predict;
 mod prefetch;
 pub mod sim;
@@ -51,5 +52,6 @@ pub use collide::{
 pub use error::EdmdError;
 pub use init::{InitParams, Placement, Velocities};
 pub use observe::{Observables, Schedule, VirialMeter, VirialReading};
+pub use order::{order_parameters, OrderParameters};
 pub use sim::{Collapse, CollapseReason, Counters, EventKind, RunEnd, SimParams, Simulation, Stop};
 pub use state::{Particle, ParticleInit};

@@ -1211,6 +1211,13 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         self.in_original_order(|s| self.velocity_now(&self.particles[s]) * self.inv_scale)
     }
 
+    /// Velocities in the simulation's internal units (the physical ones times
+    /// `exp(ln_velocity_scale())`), in the original order: finite and well-scaled at any depth of
+    /// cooling, for scale-free measures such as [`crate::order_parameters`].
+    pub fn velocities_internal(&self) -> Vec<Vector<D>> {
+        self.in_original_order(|s| self.velocity_now(&self.particles[s]))
+    }
+
     /// A particle's velocity at the current time (the stored one is at local time 0 under gravity).
     #[inline(always)]
     pub(crate) fn velocity_now(&self, p: &Particle<D>) -> Vector<D> {

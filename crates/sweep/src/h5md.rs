@@ -72,6 +72,18 @@ pub struct Record {
     pub collapse_tau: f64,
     /// Wall-clock seconds of the replica.
     pub wall_s: f64,
+    /// Regime (`kinetic`, `shearing`, `clustering`, `collapsed`, `failed`), or `unclassified`.
+    pub class: String,
+    /// First τ of the shearing predicate (NaN if never or unclassified).
+    pub shear_onset_tau: f64,
+    /// First τ of the clustering predicate (NaN if never or unclassified).
+    pub cluster_onset_tau: f64,
+    /// f_flow at the end.
+    pub f_flow: f64,
+    /// S⊥(k₁) at the end.
+    pub s_perp: f64,
+    /// δ²ρ − δ²ρ(0) at the end.
+    pub delta_rho2: f64,
 }
 
 impl Record {
@@ -97,6 +109,12 @@ impl Record {
             collisions: 0,
             collapse_tau: f64::NAN,
             wall_s: f64::NAN,
+            class: "missing".into(),
+            shear_onset_tau: f64::NAN,
+            cluster_onset_tau: f64::NAN,
+            f_flow: f64::NAN,
+            s_perp: f64::NAN,
+            delta_rho2: f64::NAN,
         }
     }
 }
@@ -310,6 +328,30 @@ fn write_file(part: &Path, spec: &Spec, r: &Replica, out: &Outcome) -> hdf5::Res
     attr_f64(&p, "collapse_time", ct)?;
     attr_f64(&p, "collapse_tau", ctau)?;
     attr_f64(&p, "wall_s", out.wall_s)?;
+    let os = &out.series.order;
+    let lastv = |v: &[f64]| v.last().copied().unwrap_or(f64::NAN);
+    match &out.classification {
+        Some(c) => {
+            attr_str(&p, "class", c.class.name())?;
+            attr_str(&p, "class_note", &c.note)?;
+            attr_f64(&p, "shear_onset_tau", c.shear_onset)?;
+            attr_f64(&p, "cluster_onset_tau", c.cluster_onset)?;
+        }
+        None => {
+            attr_str(&p, "class", "unclassified")?;
+            attr_str(&p, "class_note", "")?;
+            attr_f64(&p, "shear_onset_tau", f64::NAN)?;
+            attr_f64(&p, "cluster_onset_tau", f64::NAN)?;
+        }
+    }
+    attr_f64(&p, "final_f_flow", lastv(&os.f_flow))?;
+    attr_f64(&p, "final_s_perp", lastv(&os.s_perp))?;
+    attr_f64(
+        &p,
+        "final_delta_rho2",
+        lastv(&os.delta_rho2) - os.delta_rho2.first().copied().unwrap_or(f64::NAN),
+    )?;
+    attr_f64(&p, "per_cell", out.per_cell)?;
     let spec_group = p.create_group("spec")?;
     let tree = serde_json::to_value(spec).expect("spec serialises");
     json_attrs(&spec_group, "", &tree)?;
@@ -363,6 +405,22 @@ fn write_file(part: &Path, spec: &Spec, r: &Replica, out: &Outcome) -> hdf5::Res
     w.observable(&obs, "collisions", &s.step, &s.time, &collisions)?;
     let walls: Vec<f64> = s.wall_collisions.iter().map(|&c| c as f64).collect();
     w.observable(&obs, "wall_collisions", &s.step, &s.time, &walls)?;
+    if let Some(c) = &out.classification {
+        let o = &s.order;
+        let order: [(&str, &[f64]); 6] = [
+            ("f_flow", &o.f_flow),
+            ("s_perp", &o.s_perp),
+            ("delta_rho2", &o.delta_rho2),
+            ("f_2x", &o.f_2x),
+            ("s_rho", &o.s_rho),
+            ("haff_deviation", &c.haff_deviation),
+        ];
+        for (name, values) in order {
+            if values.len() == s.step.len() {
+                w.observable(&obs, name, &s.step, &s.time, values)?;
+            }
+        }
+    }
     file.close()
 }
 
@@ -424,6 +482,12 @@ pub fn read_record(path: &Path, spec_hash: &str) -> Result<Record, SweepError> {
             collisions: p.attr("collisions")?.read_scalar::<u64>()?,
             collapse_tau: read_f64(&p, "collapse_tau")?,
             wall_s: read_f64(&p, "wall_s")?,
+            class: read_str(&p, "class")?,
+            shear_onset_tau: read_f64(&p, "shear_onset_tau")?,
+            cluster_onset_tau: read_f64(&p, "cluster_onset_tau")?,
+            f_flow: read_f64(&p, "final_f_flow")?,
+            s_perp: read_f64(&p, "final_s_perp")?,
+            delta_rho2: read_f64(&p, "final_delta_rho2")?,
         })
     })()
     .map_err(err)?;

@@ -7,6 +7,7 @@
 //! index; [`summary`] aggregates the phase table. The `edmd` binary is the command-line front end.
 #![warn(missing_docs)]
 
+pub mod classify;
 pub mod h5md;
 pub mod merge;
 pub mod output;

@@ -48,6 +48,24 @@ fn tmp_path(path: &Path) -> PathBuf {
     path.with_file_name(name)
 }
 
+/// Whether `root` holds files that no edmd run (or a shard starting at the same moment, or a Slurm
+/// log) would have put there.
+fn has_foreign_files(root: &Path) -> Result<bool, SweepError> {
+    let ours = |name: &str| {
+        ["spec.json", "replicas", "sweep.h5", "summary."]
+            .iter()
+            .any(|p| name.starts_with(p))
+            || name.ends_with(".log")
+    };
+    for entry in fs::read_dir(root).map_err(|e| io_err("cannot read", root, e))? {
+        let entry = entry.map_err(|e| io_err("cannot read", root, e))?;
+        if !ours(&entry.file_name().to_string_lossy()) {
+            return Ok(true);
+        }
+    }
+    Ok(false)
+}
+
 impl OutDir {
     /// Opens `root` for running `spec`: creates it if needed, refuses an output of another spec
     /// unless `force` (which then deletes the old sweep's files), and records the spec.
@@ -76,12 +94,7 @@ impl OutDir {
                     }
                     out.remove_sweep_files()?;
                 }
-            } else if fs::read_dir(root)
-                .map_err(|e| io_err("cannot read", root, e))?
-                .next()
-                .is_some()
-                && !force
-            {
+            } else if !force && has_foreign_files(root)? {
                 return Err(SweepError::Output(format!(
                     "output {} is not empty and holds no edmd sweep; choose a new or empty directory, or pass --force",
                     root.display()
@@ -258,6 +271,24 @@ fn write_index_h5(path: &Path, spec: &Spec, records: &[Record]) -> hdf5::Result<
         records.iter().map(|r| r.collapse_tau).collect(),
     )?;
     column(&g, "wall_s", records.iter().map(|r| r.wall_s).collect())?;
+    column(&g, "class", s(|r| &r.class))?;
+    column(
+        &g,
+        "shear_onset_tau",
+        records.iter().map(|r| r.shear_onset_tau).collect(),
+    )?;
+    column(
+        &g,
+        "cluster_onset_tau",
+        records.iter().map(|r| r.cluster_onset_tau).collect(),
+    )?;
+    column(&g, "f_flow", records.iter().map(|r| r.f_flow).collect())?;
+    column(&g, "s_perp", records.iter().map(|r| r.s_perp).collect())?;
+    column(
+        &g,
+        "delta_rho2",
+        records.iter().map(|r| r.delta_rho2).collect(),
+    )?;
     let links = file.create_group("files")?;
     for r in records.iter().filter(|r| !r.file.is_empty()) {
         let stem = r.file.trim_end_matches(".h5");
@@ -267,7 +298,7 @@ fn write_index_h5(path: &Path, spec: &Spec, records: &[Record]) -> hdf5::Result<
 }
 
 /// Column names of `summary.csv`, in order.
-pub const CSV_COLUMNS: [&str; 19] = [
+pub const CSV_COLUMNS: [&str; 25] = [
     "index",
     "file",
     "status",
@@ -286,6 +317,12 @@ pub const CSV_COLUMNS: [&str; 19] = [
     "ln_temperature_ratio",
     "collisions",
     "collapse_tau",
+    "class",
+    "shear_onset_tau",
+    "cluster_onset_tau",
+    "f_flow",
+    "s_perp",
+    "delta_rho2",
     "wall_s",
 ];
 
@@ -321,6 +358,12 @@ fn to_csv(records: &[Record]) -> String {
             r.ln_temperature_ratio.to_string(),
             r.collisions.to_string(),
             r.collapse_tau.to_string(),
+            r.class.clone(),
+            r.shear_onset_tau.to_string(),
+            r.cluster_onset_tau.to_string(),
+            r.f_flow.to_string(),
+            r.s_perp.to_string(),
+            r.delta_rho2.to_string(),
             r.wall_s.to_string(),
         ];
         out.push_str(&row.join(","));

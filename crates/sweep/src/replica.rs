@@ -3,13 +3,14 @@
 
 use std::time::Instant;
 
-use edmd_core::theory::haff_temperature_tau;
+use edmd_core::theory::{critical_sizes, haff_rate, haff_temperature_tau, Transport};
 use edmd_core::{
-    Boundary, Channel, CollisionRule, ConstantRestitution, EdmdError, InitParams, Periodic,
-    RandomRotation, RunEnd, Schedule, Simulation, Stop, TcModel, ThesisRestitution,
+    order_parameters, Boundary, Channel, CollisionRule, ConstantRestitution, EdmdError, InitParams,
+    Periodic, RandomRotation, RunEnd, Schedule, Simulation, Stop, TcModel, ThesisRestitution,
     ThresholdRestitution, Vector, Velocities, VirialMeter, Viscoelastic, Walls,
 };
 
+use crate::classify::{classify, settled, Class, Classification, OrderSeries, Theory};
 use crate::spec::{BoundaryKind, Remedy, Replica, RuleSpec, Spec, VelocityKind};
 use crate::SweepError;
 
@@ -73,6 +74,8 @@ pub struct Series {
     pub momentum_error: Vec<f64>,
     /// Haff's law T0 exp(−k(ε) τ) (first Sonine order), for the constant-restitution rule only.
     pub haff_temperature: Vec<f64>,
+    /// Order parameters (empty unless the spec has a `classify` section).
+    pub order: OrderSeries,
 }
 
 /// Positions and velocities at one instant, in the original particle order.
@@ -113,6 +116,10 @@ pub struct Outcome {
     pub collapse: Option<(f64, f64)>,
     /// Wall-clock seconds spent simulating.
     pub wall_s: f64,
+    /// The classifier's verdict (None unless the spec has a `classify` section).
+    pub classification: Option<Classification>,
+    /// Particles per cell of the order-parameter grid (NaN without classification).
+    pub per_cell: f64,
 }
 
 impl Outcome {
@@ -129,6 +136,8 @@ impl Outcome {
             collisions: 0,
             collapse: None,
             wall_s: 0.0,
+            classification: None,
+            per_cell: f64::NAN,
         }
     }
 
@@ -184,6 +193,15 @@ pub fn run(spec: &Spec, r: &Replica, progress: &(dyn Fn(u64) + Sync)) -> Outcome
     };
     let mut outcome = result.unwrap_or_else(|e| Outcome::failed(e.to_string()));
     outcome.wall_s = start.elapsed().as_secs_f64();
+    if spec.classify.is_some() && outcome.classification.is_none() {
+        outcome.classification = Some(Classification {
+            class: Class::Failed,
+            shear_onset: f64::NAN,
+            cluster_onset: f64::NAN,
+            haff_deviation: Vec::new(),
+            note: String::new(),
+        });
+    }
     outcome
 }
 
@@ -241,6 +259,30 @@ fn by_remedy<const D: usize, B: Boundary, R: CollisionRule<State = ()>>(
     }
 }
 
+/// What linear theory says about a replica's box (critical sizes halved when any axis has walls).
+pub fn theory(spec: &Spec, r: &Replica) -> Theory {
+    let (mut lp, mut lq) = if r.eps < 1.0 {
+        critical_sizes(r.dim, r.eps, r.phi(), 1.0, Transport::Enskog)
+    } else {
+        (f64::INFINITY, f64::INFINITY)
+    };
+    if r.boundary != BoundaryKind::Periodic {
+        lp *= 0.5;
+        lq *= 0.5;
+    }
+    let grid = spec
+        .classify
+        .as_ref()
+        .map(|c| c.grid_for(r.dim))
+        .unwrap_or(1);
+    Theory {
+        haff_rate: matches!(spec.rule, RuleSpec::Constant).then(|| haff_rate(r.dim, r.eps)),
+        l_over_l_perp: r.side() / lp,
+        l_over_l_par: r.side() / lq,
+        per_cell: r.n as f64 / (grid as f64).powi(r.dim as i32),
+    }
+}
+
 /// Pair collisions between progress reports (and checks of the stop condition).
 const CHUNK_COLLISIONS: u64 = 200_000;
 
@@ -266,6 +308,9 @@ fn simulate<const D: usize, B: Boundary, R: CollisionRule>(
     let n = r.n as f64;
     let volume = sim.box_len().iter().product::<f64>();
     let haff = matches!(spec.rule, RuleSpec::Constant);
+    let grid = spec.classify.as_ref().map(|c| c.grid_for(D));
+    let masses = sim.masses();
+    let theory = theory(spec, r);
 
     let mut snapshot_points = spec.snapshots.at.clone();
     snapshot_points.retain(|&t| t <= spec.stop.tau_max);
@@ -322,6 +367,28 @@ fn simulate<const D: usize, B: Boundary, R: CollisionRule>(
         } else {
             f64::NAN
         });
+        if let Some(grid) = grid {
+            let mut walls = [false; D];
+            for (a, w) in walls.iter_mut().enumerate() {
+                *w = B::WALL_MASK & (1 << a) != 0;
+            }
+            let op = order_parameters(
+                &sim.positions(),
+                &sim.velocities_internal(),
+                &masses,
+                sim.box_len(),
+                walls,
+                grid,
+            );
+            let os = &mut series.order;
+            os.tau.push(o.tau);
+            os.ln_temperature.push(o.ln_temperature);
+            os.f_flow.push(op.f_flow);
+            os.s_perp.push(op.s_perp);
+            os.delta_rho2.push(op.delta_rho2);
+            os.f_2x.push(op.f_2x);
+            os.s_rho.push(op.s_rho);
+        }
         if snapshot {
             snapshots.push(Snapshot {
                 step: o.pair_collisions as i64,
@@ -335,6 +402,7 @@ fn simulate<const D: usize, B: Boundary, R: CollisionRule>(
     let mut next = schedule.first_at_or_after(0.0);
     let mut end = RunEnd::Reached;
     let mut stopped_cold = false;
+    let mut settled_as: Option<Class> = None;
     while let Some(point) = next {
         // Advance to the sample point in chunks, reporting progress.
         let target = (point * n).ceil() as u64;
@@ -354,6 +422,12 @@ fn simulate<const D: usize, B: Boundary, R: CollisionRule>(
         if let Some(ratio) = spec.stop.temperature_ratio {
             if sim.ln_temperature() - t0.ln() < ratio.ln() {
                 stopped_cold = true;
+                break;
+            }
+        }
+        if let (true, Some(c)) = (spec.stop.classified, &spec.classify) {
+            settled_as = settled(&series.order, &c.thresholds, &theory);
+            if settled_as.is_some() {
                 break;
             }
         }
@@ -405,9 +479,36 @@ fn simulate<const D: usize, B: Boundary, R: CollisionRule>(
             "stopped at stop.temperature_ratio".into(),
             None,
         ),
+        RunEnd::Reached if settled_as.is_some() => (
+            Status::Done,
+            format!(
+                "stopped early: class {} settled (stop.classified)",
+                settled_as.map(|c| c.name()).unwrap_or_default()
+            ),
+            None,
+        ),
         RunEnd::Reached => (Status::Done, String::new(), None),
     };
     let radius = vec![p.radius; r.n];
+    let classification = spec.classify.as_ref().map(|c| match status {
+        Status::Done => classify(&series.order, &c.thresholds, &theory),
+        Status::Collapsed | Status::Failed => Classification {
+            class: if status == Status::Collapsed {
+                Class::Collapsed
+            } else {
+                Class::Failed
+            },
+            shear_onset: f64::NAN,
+            cluster_onset: f64::NAN,
+            haff_deviation: crate::classify::haff_deviation(
+                &series.order,
+                c.thresholds.haff_tau0,
+                theory.haff_rate,
+            )
+            .0,
+            note: String::new(),
+        },
+    });
     Ok(Outcome {
         status,
         message,
@@ -420,5 +521,7 @@ fn simulate<const D: usize, B: Boundary, R: CollisionRule>(
         collisions: c,
         collapse,
         wall_s: 0.0,
+        classification,
+        per_cell: theory.per_cell,
     })
 }

@@ -97,7 +97,9 @@ pub fn run_sweep(spec: &Spec, out: &OutDir, opts: &RunOptions) -> Result<RunRepo
     let first_error: Mutex<Option<SweepError>> = Mutex::new(None);
 
     let work = || {
-        todo.par_iter().for_each(|r| {
+        // One replica per job: rayon would otherwise run runs of several replicas back to back on one
+        // thread, and a run of slow ones at the end leaves the other threads idle.
+        todo.par_iter().with_max_len(1).for_each(|r| {
             if first_error.lock().expect("lock").is_some() {
                 return;
             }

@@ -190,6 +190,28 @@ pub struct StopSpec {
     /// End earlier, at the first sample where T/T0 falls below this value.
     #[serde(default)]
     pub temperature_ratio: Option<f64>,
+    /// End earlier, once the replica's class is settled (needs a `classify` section).
+    #[serde(default)]
+    pub classified: bool,
+}
+
+/// Order parameters and the regime classifier (PHYSICS.md §5).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ClassifySpec {
+    /// Cells per axis of the order-parameter grid (default 8 in 2D, 4 in 3D).
+    #[serde(default)]
+    pub grid: Option<usize>,
+    /// Thresholds of the classifier.
+    #[serde(default)]
+    pub thresholds: crate::classify::Thresholds,
+}
+
+impl ClassifySpec {
+    /// Cells per axis in `d` dimensions.
+    pub fn grid_for(&self, d: usize) -> usize {
+        self.grid.unwrap_or(if d == 2 { 8 } else { 4 })
+    }
 }
 
 /// When observables are sampled (the union of a linear and a logarithmic grid in τ).
@@ -352,6 +374,9 @@ pub struct Spec {
     /// Output options.
     #[serde(default)]
     pub output: OutputSpec,
+    /// Order parameters and classification at every sample (absent: neither is computed).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub classify: Option<ClassifySpec>,
 }
 
 /// How the box of a replica is given.
@@ -664,6 +689,41 @@ impl Spec {
         if let Some(t) = s.temperature_ratio {
             if !(t > 0.0 && t < 1.0) {
                 return bad("stop.temperature_ratio", &t, "must lie in (0, 1)");
+            }
+        }
+        if s.classified && self.classify.is_none() {
+            return bad(
+                "stop.classified",
+                &true,
+                "needs a \"classify\" section (order parameters)",
+            );
+        }
+        if let Some(c) = &self.classify {
+            if let Some(g) = c.grid {
+                if !(1..=1024).contains(&g) {
+                    return bad("classify.grid", &g, "cells per axis must lie in 1..=1024");
+                }
+            }
+            let t = &c.thresholds;
+            for (field, v) in [
+                ("classify.thresholds.haff_tau0", t.haff_tau0),
+                ("classify.thresholds.haff", t.haff),
+                ("classify.thresholds.kinetic_flow", t.kinetic_flow),
+                ("classify.thresholds.kinetic_density", t.kinetic_density),
+                ("classify.thresholds.shear_flow", t.shear_flow),
+                ("classify.thresholds.shear_s_perp", t.shear_s_perp),
+                ("classify.thresholds.cluster_density", t.cluster_density),
+                ("classify.thresholds.cluster_f2x", t.cluster_f2x),
+                (
+                    "classify.thresholds.cluster_f2x_min_per_cell",
+                    t.cluster_f2x_min_per_cell,
+                ),
+                ("classify.thresholds.cluster_s_rho", t.cluster_s_rho),
+                ("classify.thresholds.settle_window", t.settle_window),
+            ] {
+                if !(v >= 0.0 && v.is_finite()) {
+                    return bad(field, &v, "must be ≥ 0 and finite");
+                }
             }
         }
         if let Some(e) = self.samples.every {

@@ -45,6 +45,16 @@ pub struct PointRow {
     pub l_over_l_perp: f64,
     /// L / L∥ (Enskog; L∥ halved for walled axes).
     pub l_over_l_par: f64,
+    /// Fraction of seeds labelled kinetic (NaN without classification).
+    pub kinetic: f64,
+    /// Fraction of seeds labelled shearing.
+    pub shearing: f64,
+    /// Fraction of seeds labelled clustering.
+    pub clustering: f64,
+    /// Median first-passage τ of the shearing predicate, over the seeds that reached it.
+    pub shear_onset_tau: f64,
+    /// Median first-passage τ of the clustering predicate, over the seeds that reached it.
+    pub cluster_onset_tau: f64,
 }
 
 fn median(mut v: Vec<f64>) -> f64 {
@@ -102,7 +112,20 @@ pub fn phase_table(spec: &Spec, records: &[Record]) -> Vec<PointRow> {
                 lp *= 0.5;
                 lq *= 0.5;
             }
+            let classified = spec.classify.is_some();
+            let frac = |c: &str| {
+                if classified {
+                    g.iter().filter(|r| r.class == c).count() as f64 / g.len() as f64
+                } else {
+                    f64::NAN
+                }
+            };
             PointRow {
+                kinetic: frac("kinetic"),
+                shearing: frac("shearing"),
+                clustering: frac("clustering"),
+                shear_onset_tau: median(g.iter().map(|r| r.shear_onset_tau).collect()),
+                cluster_onset_tau: median(g.iter().map(|r| r.cluster_onset_tau).collect()),
                 dim: first.dim,
                 boundary: first.boundary.clone(),
                 remedy: first.remedy.clone(),
@@ -136,7 +159,8 @@ pub enum Format {
     Json,
 }
 
-const HEADER: [&str; 17] = [
+const COLUMNS: usize = 22;
+const HEADER: [&str; COLUMNS] = [
     "D",
     "boundary",
     "remedy",
@@ -154,9 +178,14 @@ const HEADER: [&str; 17] = [
     "log10(Haff)",
     "L/L_perp",
     "L/L_par",
+    "kinetic",
+    "shearing",
+    "clustering",
+    "tau_shear",
+    "tau_cluster",
 ];
 
-fn cells(r: &PointRow) -> [String; 17] {
+fn cells(r: &PointRow) -> [String; COLUMNS] {
     let f = |x: f64, p: usize| {
         if x.is_nan() {
             "-".to_string()
@@ -182,6 +211,11 @@ fn cells(r: &PointRow) -> [String; 17] {
         f(r.log10_t_haff, 3),
         f(r.l_over_l_perp, 2),
         f(r.l_over_l_par, 2),
+        f(r.kinetic, 2),
+        f(r.shearing, 2),
+        f(r.clustering, 2),
+        f(r.shear_onset_tau, 0),
+        f(r.cluster_onset_tau, 0),
     ]
 }
 
@@ -199,8 +233,8 @@ pub fn render(rows: &[PointRow], format: Format) -> String {
             s
         }
         Format::Table => {
-            let body: Vec<[String; 17]> = rows.iter().map(cells).collect();
-            let widths: Vec<usize> = (0..17)
+            let body: Vec<[String; COLUMNS]> = rows.iter().map(cells).collect();
+            let widths: Vec<usize> = (0..COLUMNS)
                 .map(|i| {
                     body.iter()
                         .map(|c| c[i].len())

@@ -1,0 +1,170 @@
+"""The one module that touches h5py: reads edmd output into numpy arrays and small dataclasses.
+
+Every reader checks the file's ``schema_version`` (see docs/output.md) and raises SchemaError with
+the path and both versions when it is not the one this package understands.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Dict
+
+import h5py
+import numpy as np
+
+SCHEMA_VERSION = 1
+
+
+class SchemaError(ValueError):
+    """A file is not edmd output, or is of a schema version this package does not read."""
+
+
+def _check_version(path: Path, attrs) -> None:
+    if "schema_version" not in attrs:
+        raise SchemaError(f"{path}: not an edmd file (no schema_version attribute)")
+    version = int(attrs["schema_version"])
+    if version != SCHEMA_VERSION:
+        raise SchemaError(
+            f"{path}: schema_version {version}, but edmd_analysis reads version {SCHEMA_VERSION}"
+        )
+
+
+def _str(x) -> str:
+    return x.decode() if isinstance(x, bytes) else str(x)
+
+
+@dataclass
+class Index:
+    """The sweep index: one entry per replica, as columns."""
+
+    path: Path
+    name: str
+    spec: dict
+    columns: Dict[str, np.ndarray]
+
+    def __len__(self) -> int:
+        return len(self.columns["index"])
+
+    def __getitem__(self, column: str) -> np.ndarray:
+        return self.columns[column]
+
+    def replica_path(self, i: int) -> Path:
+        """Path of replica i's file (whether or not it exists)."""
+        return self.path.parent / "replicas" / f"r{int(self.columns['index'][i]):05d}.h5"
+
+
+def read_index(out) -> Index:
+    """Reads OUT/sweep.h5 (OUT may be the directory or the file)."""
+    path = Path(out)
+    if path.is_dir():
+        path = path / "sweep.h5"
+    if not path.exists():
+        raise FileNotFoundError(
+            f"{path}: no sweep index (the sweep is incomplete: rerun `edmd run` or `edmd merge`)"
+        )
+    with h5py.File(path, "r") as f:
+        _check_version(path, f.attrs)
+        columns = {}
+        for name, ds in f["replicas"].items():
+            data = ds[()]
+            if data.dtype.kind == "O":
+                data = np.array([_str(x) for x in data])
+            columns[name] = data
+        return Index(path, _str(f.attrs["sweep_name"]), json.loads(_str(f.attrs["spec"])), columns)
+
+
+@dataclass
+class Replica:
+    """A replica's parameters, status and observables."""
+
+    path: Path
+    params: dict
+    observables: Dict[str, np.ndarray] = field(default_factory=dict)
+    step: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
+    time: np.ndarray = field(default_factory=lambda: np.zeros(0))
+
+    @property
+    def status(self) -> str:
+        return self.params["status"]
+
+
+def _params(path: Path, f: h5py.File) -> dict:
+    if "parameters" not in f:
+        raise SchemaError(f"{path}: not an edmd replica file (no /parameters group)")
+    attrs = f["parameters"].attrs
+    _check_version(path, attrs)
+    out = {}
+    for k, v in attrs.items():
+        if isinstance(v, (bytes, str)):
+            out[k] = _str(v)
+        elif np.ndim(v) == 0:
+            out[k] = v.item() if hasattr(v, "item") else v
+        else:
+            out[k] = np.asarray(v)
+    out["spec"] = json.loads(out["spec"])
+    return out
+
+
+def read_replica(path) -> Replica:
+    """Reads a replica file: parameters (attributes of /parameters) and every observable."""
+    path = Path(path)
+    with h5py.File(path, "r") as f:
+        rep = Replica(path, _params(path, f))
+        if "observables" in f:
+            for name, g in f["observables"].items():
+                rep.observables[name] = g["value"][()]
+            first = next(iter(f["observables"].values()))
+            rep.step = first["step"][()]
+            rep.time = first["time"][()]
+        return rep
+
+
+def read_observable(path, name: str):
+    """(step, time, value) arrays of one observable of a replica file."""
+    path = Path(path)
+    with h5py.File(path, "r") as f:
+        _params(path, f)
+        if name not in f.get("observables", {}):
+            raise KeyError(f"{path}: no observable {name!r}")
+        g = f["observables"][name]
+        return g["step"][()], g["time"][()], g["value"][()]
+
+
+@dataclass
+class Snapshots:
+    """Stored particle states of a replica: arrays of shape (k,), (k, N, D)."""
+
+    step: np.ndarray
+    time: np.ndarray
+    tau: np.ndarray
+    position: np.ndarray
+    velocity: np.ndarray
+    box: np.ndarray
+    boundary: list
+    radius: np.ndarray
+    mass: np.ndarray
+
+
+def read_snapshots(path) -> Snapshots:
+    """Every stored snapshot of a replica file."""
+    path = Path(path)
+    with h5py.File(path, "r") as f:
+        params = _params(path, f)
+        if "particles" not in f:
+            raise SchemaError(f"{path}: no particles stored (status {params['status']})")
+        gas = f["particles/gas"]
+        step = gas["position/step"][()]
+        n = int(params["n"])
+        return Snapshots(
+            step=step,
+            time=gas["position/time"][()],
+            tau=step / n,
+            position=gas["position/value"][()],
+            velocity=gas["velocity/value"][()],
+            box=gas["box/edges"][()],
+            boundary=[_str(b) for b in gas["box"].attrs["boundary"]],
+            radius=gas["radius"][()],
+            mass=gas["mass"][()],
+        )

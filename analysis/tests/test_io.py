@@ -1,0 +1,89 @@
+"""edmd_analysis.io on a finished sweep, a partial (killed or sharded) sweep and a file of another
+schema version."""
+
+import shutil
+
+import h5py
+import numpy as np
+import pytest
+
+import edmd_analysis as ea
+
+
+def test_read_index(sweep):
+    idx = ea.read_index(sweep)
+    assert idx.name == "pytest"
+    assert len(idx) == 5
+    assert list(idx["status"]) == ["done"] * 5
+    assert list(idx["dim"]) == [2, 2, 2, 2, 3]
+    assert list(idx["seed_index"]) == [0, 1, 0, 1, 0]
+    np.testing.assert_allclose(idx["eps"], [0.9, 0.9, 0.7, 0.7, 0.8])
+    assert idx.spec["stop"]["tau_max"] == 20
+    for i in range(len(idx)):
+        assert idx.replica_path(i).exists()
+    # The index agrees with the files it links to.
+    with h5py.File(sweep / "sweep.h5", "r") as f:
+        assert float(f["files/r00004/parameters"].attrs["eps"]) == 0.8
+
+
+def test_read_replica(sweep):
+    rep = ea.read_replica(sweep / "replicas" / "r00000.h5")
+    assert rep.status == "done"
+    assert rep.params["n"] == 200 and rep.params["dim"] == 2
+    assert rep.params["spec"]["name"] == "pytest"
+    t = rep.observables["temperature"]
+    assert t[0] == pytest.approx(1.0) and t[-1] < t[0]
+    assert len(rep.step) == len(t) and np.all(np.diff(rep.step) > 0)
+    assert np.all(np.isnan(rep.observables["haff_temperature"]) == False)  # noqa: E712
+
+
+def test_read_observable(sweep):
+    step, time, value = ea.read_observable(sweep / "replicas" / "r00001.h5", "kurtosis")
+    assert step.shape == time.shape == value.shape
+    with pytest.raises(KeyError, match="no observable 'nope'"):
+        ea.read_observable(sweep / "replicas" / "r00001.h5", "nope")
+
+
+def test_read_snapshots(sweep):
+    s = ea.read_snapshots(sweep / "replicas" / "r00004.h5")
+    assert s.position.shape == (3, 150, 3)  # tau = 0, 5 and the end
+    np.testing.assert_allclose(s.tau, [0, 5, 20], atol=0.01)
+    assert s.boundary == ["none"] * 3
+    assert s.radius.shape == (150,) and np.all(s.radius == 0.5)
+    # Zero total momentum at the start, and a kinetic temperature of 1.
+    v0 = s.velocity[0]
+    np.testing.assert_allclose(v0.sum(axis=0), 0, atol=1e-10)
+    assert (s.mass[:, None] * v0**2).sum() / (3 * 150) == pytest.approx(1.0)
+
+
+def test_partial_sweep(partial_sweep):
+    with pytest.raises(FileNotFoundError, match="incomplete"):
+        ea.read_index(partial_sweep)
+    files = sorted((partial_sweep / "replicas").glob("*.h5"))
+    assert [f.name for f in files] == ["r00000.h5", "r00002.h5", "r00004.h5"]
+    for f in files:
+        assert ea.read_replica(f).status == "done"
+
+
+def test_wrong_schema_version(sweep, tmp_path):
+    bad = tmp_path / "r.h5"
+    shutil.copy(sweep / "replicas" / "r00000.h5", bad)
+    with h5py.File(bad, "r+") as f:
+        f["parameters"].attrs["schema_version"] = 99
+    for reader in (ea.read_replica, ea.read_snapshots, lambda p: ea.read_observable(p, "tau")):
+        with pytest.raises(ea.SchemaError, match="schema_version 99.*reads version 1"):
+            reader(bad)
+    idx = tmp_path / "sweep.h5"
+    shutil.copy(sweep / "sweep.h5", idx)
+    with h5py.File(idx, "r+") as f:
+        f.attrs["schema_version"] = 2
+    with pytest.raises(ea.SchemaError, match="schema_version 2"):
+        ea.read_index(idx)
+
+
+def test_not_an_edmd_file(tmp_path):
+    p = tmp_path / "x.h5"
+    with h5py.File(p, "w") as f:
+        f["a"] = 1
+    with pytest.raises(ea.SchemaError, match="not an edmd replica file"):
+        ea.read_replica(p)

@@ -1,0 +1,461 @@
+//! The regime classifier: a pure function of a replica's order-parameter time series (PHYSICS.md §5.2).
+//!
+//! At every sample τ ≥ τ₀ three predicates are evaluated:
+//! * **clustering**: δ²ρ − δ²ρ(0) ≥ `cluster_density`, or f₂ₓ ≥ `cluster_f2x` with at least
+//!   `cluster_f2x_min_per_cell` particles per cell, or S_ρ(k₁) ≥ `cluster_s_rho` at
+//!   `sustain` consecutive samples;
+//! * **shearing**: f_flow ≥ `shear_flow`, or S⊥(k₁) ≥ `shear_s_perp` and growing;
+//! * **kinetic**: ΔH < `haff`, f_flow < `kinetic_flow` and δ²ρ − δ²ρ(0) < `kinetic_density`.
+//!
+//! The class is read at the last sample: clustering if its predicate holds, else shearing, else kinetic.
+//! A last sample that is none of the three (a departure from Haff's law with little flow) is shearing
+//! when f_flow ≥ `kinetic_flow`, kinetic otherwise, with a note. First-passage τ of the shearing and
+//! clustering predicates are reported. A kinetic label gets a note saying whether linear theory
+//! predicts stability (L < L⊥) or whether the run ended before the onset time 3/r⊥.
+
+use serde::{Deserialize, Serialize};
+
+/// Thresholds of the classifier, with the defaults of PHYSICS.md §5.2.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Thresholds {
+    /// Start of the Haff-deviation window τ₀ (default 5).
+    pub haff_tau0: f64,
+    /// ΔH above which the gas has left the homogeneous cooling state (default 0.1).
+    pub haff: f64,
+    /// f_flow below which the gas is kinetic (default 0.05).
+    pub kinetic_flow: f64,
+    /// δ²ρ − δ²ρ(0) below which the gas is kinetic (default 0.05).
+    pub kinetic_density: f64,
+    /// f_flow at and above which the gas shears (default 0.1).
+    pub shear_flow: f64,
+    /// S⊥(k₁) at and above which, while growing, the gas shears (default 20).
+    pub shear_s_perp: f64,
+    /// δ²ρ − δ²ρ(0) at and above which the gas clusters (default 0.15).
+    pub cluster_density: f64,
+    /// f₂ₓ at and above which the gas clusters (default 0.05) …
+    pub cluster_f2x: f64,
+    /// … if the grid has at least this many particles per cell (default 16).
+    pub cluster_f2x_min_per_cell: f64,
+    /// S_ρ(k₁) at and above which, sustained, the gas clusters (default 10).
+    pub cluster_s_rho: f64,
+    /// Consecutive samples that make S_ρ "sustained" (default 3).
+    pub sustain: usize,
+    /// τ window over which a class must hold before `stop.classified` ends a replica (default 50).
+    pub settle_window: f64,
+}
+
+impl Default for Thresholds {
+    fn default() -> Self {
+        Thresholds {
+            haff_tau0: 5.0,
+            haff: 0.1,
+            kinetic_flow: 0.05,
+            kinetic_density: 0.05,
+            shear_flow: 0.1,
+            shear_s_perp: 20.0,
+            cluster_density: 0.15,
+            cluster_f2x: 0.05,
+            cluster_f2x_min_per_cell: 16.0,
+            cluster_s_rho: 10.0,
+            sustain: 3,
+            settle_window: 50.0,
+        }
+    }
+}
+
+/// A replica's class.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Class {
+    /// Homogeneous cooling (Haff's law).
+    Kinetic,
+    /// Vortices / shear bands, no clusters.
+    Shearing,
+    /// Density clusters.
+    Clustering,
+    /// Inelastic collapse ended the run.
+    Collapsed,
+    /// The replica could not start.
+    Failed,
+}
+
+impl Class {
+    /// Every class, in table order.
+    pub const ALL: [Class; 5] = [
+        Class::Kinetic,
+        Class::Shearing,
+        Class::Clustering,
+        Class::Collapsed,
+        Class::Failed,
+    ];
+
+    /// The name used in files and tables.
+    pub fn name(self) -> &'static str {
+        match self {
+            Class::Kinetic => "kinetic",
+            Class::Shearing => "shearing",
+            Class::Clustering => "clustering",
+            Class::Collapsed => "collapsed",
+            Class::Failed => "failed",
+        }
+    }
+}
+
+/// Order parameters over time (one entry per sample).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct OrderSeries {
+    /// τ of each sample.
+    pub tau: Vec<f64>,
+    /// ln T.
+    pub ln_temperature: Vec<f64>,
+    /// Noise-corrected flow-energy fraction.
+    pub f_flow: Vec<f64>,
+    /// Transverse velocity structure factor at k₁.
+    pub s_perp: Vec<f64>,
+    /// Poisson-corrected density contrast (raw; the classifier subtracts the first value).
+    pub delta_rho2: Vec<f64>,
+    /// Fraction of particles in cells above twice the mean count.
+    pub f_2x: Vec<f64>,
+    /// Density structure factor at k₁.
+    pub s_rho: Vec<f64>,
+}
+
+/// What linear theory says about the replica's box.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Theory {
+    /// Haff cooling rate k(ε) per unit τ (None: fit it on [τ₀, τ₀ + 10]).
+    pub haff_rate: Option<f64>,
+    /// Box side over the critical shear size (walls: over L⊥/2).
+    pub l_over_l_perp: f64,
+    /// Box side over the critical clustering size (walls: over L∥/2).
+    pub l_over_l_par: f64,
+    /// Particles per cell of the order-parameter grid.
+    pub per_cell: f64,
+}
+
+impl Theory {
+    /// Linear growth rate r⊥ of the slowest shear mode per unit τ: k(ε)(1 − (L⊥/L)²).
+    pub fn r_perp(&self, k: f64) -> f64 {
+        k * (1.0 - self.l_over_l_perp.powi(-2))
+    }
+}
+
+/// The classifier's verdict.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Classification {
+    /// The class.
+    pub class: Class,
+    /// First τ at which the shearing predicate held (NaN if never).
+    pub shear_onset: f64,
+    /// First τ at which the clustering predicate held (NaN if never).
+    pub cluster_onset: f64,
+    /// Haff deviation ΔH at every sample (NaN before τ₀).
+    pub haff_deviation: Vec<f64>,
+    /// Caveats: "too short to tell", weak departures, …
+    pub note: String,
+}
+
+/// Haff deviation ΔH(τ) = ln T(τ) − ln T(τ₀) + k (τ − τ₀) at every sample, and the k used.
+pub fn haff_deviation(s: &OrderSeries, tau0: f64, rate: Option<f64>) -> (Vec<f64>, f64) {
+    let interp = |t: f64| -> Option<f64> {
+        let i = s.tau.iter().position(|&x| x >= t)?;
+        if s.tau[i] == t || i == 0 {
+            return Some(s.ln_temperature[i]);
+        }
+        let (t0, t1) = (s.tau[i - 1], s.tau[i]);
+        let w = (t - t0) / (t1 - t0);
+        Some(s.ln_temperature[i - 1] * (1.0 - w) + s.ln_temperature[i] * w)
+    };
+    let k = rate.unwrap_or_else(|| {
+        // Least-squares slope of ln T over [τ₀, τ₀ + 10].
+        let pts: Vec<(f64, f64)> = s
+            .tau
+            .iter()
+            .zip(&s.ln_temperature)
+            .filter(|(&t, _)| t >= tau0 && t <= tau0 + 10.0)
+            .map(|(&t, &l)| (t, l))
+            .collect();
+        if pts.len() < 2 {
+            return f64::NAN;
+        }
+        let n = pts.len() as f64;
+        let (mt, ml) = (
+            pts.iter().map(|p| p.0).sum::<f64>() / n,
+            pts.iter().map(|p| p.1).sum::<f64>() / n,
+        );
+        let cov: f64 = pts.iter().map(|p| (p.0 - mt) * (p.1 - ml)).sum();
+        let var: f64 = pts.iter().map(|p| (p.0 - mt).powi(2)).sum();
+        -cov / var
+    });
+    let Some(ln0) = interp(tau0) else {
+        return (vec![f64::NAN; s.tau.len()], k);
+    };
+    let dh = s
+        .tau
+        .iter()
+        .zip(&s.ln_temperature)
+        .map(|(&t, &l)| {
+            if t < tau0 {
+                f64::NAN
+            } else {
+                l - ln0 + k * (t - tau0)
+            }
+        })
+        .collect();
+    (dh, k)
+}
+
+/// Per-sample predicates.
+struct Predicates {
+    kinetic: Vec<bool>,
+    shearing: Vec<bool>,
+    clustering: Vec<bool>,
+}
+
+fn predicates(s: &OrderSeries, dh: &[f64], th: &Thresholds, per_cell: f64) -> Predicates {
+    let n = s.tau.len();
+    let d0 = s.delta_rho2.first().copied().unwrap_or(0.0);
+    let mut p = Predicates {
+        kinetic: vec![false; n],
+        shearing: vec![false; n],
+        clustering: vec![false; n],
+    };
+    let mut rho_run = 0usize;
+    for i in 0..n {
+        let contrast = s.delta_rho2[i] - d0;
+        rho_run = if s.s_rho[i] >= th.cluster_s_rho {
+            rho_run + 1
+        } else {
+            0
+        };
+        p.clustering[i] = contrast >= th.cluster_density
+            || (s.f_2x[i] >= th.cluster_f2x && per_cell >= th.cluster_f2x_min_per_cell)
+            || rho_run >= th.sustain;
+        let growing = i > 0 && s.s_perp[i] > s.s_perp[i - 1];
+        p.shearing[i] = s.f_flow[i] >= th.shear_flow || (s.s_perp[i] >= th.shear_s_perp && growing);
+        let dhi = if dh[i].is_nan() { 0.0 } else { dh[i] };
+        p.kinetic[i] =
+            dhi < th.haff && s.f_flow[i] < th.kinetic_flow && contrast < th.kinetic_density;
+    }
+    p
+}
+
+/// Classifies a replica that ran (status done); collapsed and failed replicas are passed through by
+/// the caller.
+pub fn classify(s: &OrderSeries, th: &Thresholds, theory: &Theory) -> Classification {
+    let (dh, k) = haff_deviation(s, th.haff_tau0, theory.haff_rate);
+    let n = s.tau.len();
+    if n == 0 {
+        return Classification {
+            class: Class::Failed,
+            shear_onset: f64::NAN,
+            cluster_onset: f64::NAN,
+            haff_deviation: dh,
+            note: "no samples".into(),
+        };
+    }
+    let p = predicates(s, &dh, th, theory.per_cell);
+    let first = |v: &[bool]| {
+        v.iter()
+            .position(|&b| b)
+            .map(|i| s.tau[i])
+            .unwrap_or(f64::NAN)
+    };
+    let (shear_onset, cluster_onset) = (first(&p.shearing), first(&p.clustering));
+    let last = n - 1;
+    let tau_end = s.tau[last];
+    let mut note = String::new();
+    let class = if p.clustering[last] {
+        Class::Clustering
+    } else if p.shearing[last] {
+        Class::Shearing
+    } else if p.kinetic[last] {
+        Class::Kinetic
+    } else if s.f_flow[last] >= th.kinetic_flow {
+        note = format!(
+            "weak shear: f_flow = {:.3} below the shearing threshold {}",
+            s.f_flow[last], th.shear_flow
+        );
+        Class::Shearing
+    } else {
+        note = format!(
+            "departure from Haff's law (Delta H = {:.3}) without flow or density structure",
+            dh[last]
+        );
+        Class::Kinetic
+    };
+    if class == Class::Kinetic && note.is_empty() {
+        let r = theory.r_perp(k);
+        note = if theory.l_over_l_perp <= 1.0 {
+            format!(
+                "linearly stable: L/L_perp = {:.2} < 1",
+                theory.l_over_l_perp
+            )
+        } else if r * tau_end < 3.0 {
+            format!(
+                "too short to tell: ended at tau = {tau_end:.0}, before the linear onset 3/r_perp = {:.0}",
+                3.0 / r
+            )
+        } else {
+            format!(
+                "kinetic beyond the linear onset 3/r_perp = {:.0} (L/L_perp = {:.2})",
+                3.0 / r,
+                theory.l_over_l_perp
+            )
+        };
+    }
+    Classification {
+        class,
+        shear_onset,
+        cluster_onset,
+        haff_deviation: dh,
+        note,
+    }
+}
+
+/// Whether a running replica's class is settled, so that `stop.classified` may end it: clustering
+/// held over the last `settle_window` in τ, or shearing held that long in a box below the clustering
+/// size (L < L∥), where linear theory predicts no clusters to follow.
+pub fn settled(s: &OrderSeries, th: &Thresholds, theory: &Theory) -> Option<Class> {
+    let n = s.tau.len();
+    if n < 2 {
+        return None;
+    }
+    let (dh, _) = haff_deviation(s, th.haff_tau0, theory.haff_rate);
+    let p = predicates(s, &dh, th, theory.per_cell);
+    let held = |v: &[bool]| -> bool {
+        let end = s.tau[n - 1];
+        let mut i = n;
+        while i > 0 && v[i - 1] {
+            i -= 1;
+        }
+        i < n && end - s.tau[i] >= th.settle_window
+    };
+    if held(&p.clustering) {
+        Some(Class::Clustering)
+    } else if theory.l_over_l_par < 1.0 && held(&p.shearing) {
+        Some(Class::Shearing)
+    } else {
+        None
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A series sampled every τ = 1 with Haff cooling at rate `k` and given order parameters.
+    fn series(n: usize, k: f64, f: impl Fn(f64) -> (f64, f64, f64)) -> OrderSeries {
+        let mut s = OrderSeries::default();
+        for i in 0..n {
+            let t = i as f64;
+            let (flow, sp, d2) = f(t);
+            s.tau.push(t);
+            s.ln_temperature.push(-k * t);
+            s.f_flow.push(flow);
+            s.s_perp.push(sp);
+            s.delta_rho2.push(d2);
+            s.f_2x.push(0.0);
+            s.s_rho.push(1.0);
+        }
+        s
+    }
+
+    fn theory(l_perp: f64, l_par: f64) -> Theory {
+        Theory {
+            haff_rate: Some(0.1),
+            l_over_l_perp: l_perp,
+            l_over_l_par: l_par,
+            per_cell: 16.0,
+        }
+    }
+
+    #[test]
+    fn haff_cooling_without_structure_is_kinetic_and_says_why() {
+        let s = series(200, 0.1, |_| (0.0, 1.0, -0.03));
+        let th = Thresholds::default();
+        let c = classify(&s, &th, &theory(0.8, 0.4));
+        assert_eq!(c.class, Class::Kinetic);
+        assert!(c.note.contains("linearly stable"), "{}", c.note);
+        assert!(c.haff_deviation[10].abs() < 1e-12 && c.haff_deviation[0].is_nan());
+        assert!(c.shear_onset.is_nan() && c.cluster_onset.is_nan());
+        // Unstable box, run shorter than the onset time 3/r⊥ = 3/(0.1·(1 − 1/1.21)) ≈ 174.
+        let c = classify(
+            &series(100, 0.1, |_| (0.0, 1.0, 0.0)),
+            &th,
+            &theory(1.1, 0.5),
+        );
+        assert_eq!(c.class, Class::Kinetic);
+        assert!(c.note.starts_with("too short to tell"), "{}", c.note);
+    }
+
+    #[test]
+    fn growing_flow_is_shearing_with_its_first_passage() {
+        let s = series(300, 0.1, |t| {
+            (0.001 * (t / 20.0).exp().min(500.0), 1.0, 0.0)
+        });
+        let c = classify(&s, &Thresholds::default(), &theory(2.0, 0.8));
+        assert_eq!(c.class, Class::Shearing);
+        // f_flow = 0.1 at t = 20 ln 100 = 92.1: first sample at or after is τ = 93.
+        assert_eq!(c.shear_onset, 93.0);
+        assert!(c.cluster_onset.is_nan());
+    }
+
+    #[test]
+    fn density_contrast_is_clustering_whatever_the_flow() {
+        let s = series(300, 0.1, |t| {
+            (0.5, 50.0, -0.02 + if t > 150.0 { 0.2 } else { 0.0 })
+        });
+        let c = classify(&s, &Thresholds::default(), &theory(3.0, 1.5));
+        assert_eq!(c.class, Class::Clustering);
+        assert_eq!(c.cluster_onset, 151.0);
+        assert_eq!(c.shear_onset, 0.0);
+    }
+
+    #[test]
+    fn fitted_haff_rate_detects_a_slower_cooling() {
+        // Cooling at rate 0.1 until τ = 50, then at 0.05: ΔH grows once the rate changes.
+        let mut s = series(200, 0.1, |_| (0.0, 1.0, 0.0));
+        for (t, l) in s.tau.iter().zip(s.ln_temperature.iter_mut()) {
+            if *t > 50.0 {
+                *l = -5.0 - 0.05 * (t - 50.0);
+            }
+        }
+        let (dh, k) = haff_deviation(&s, 5.0, None);
+        assert!((k - 0.1).abs() < 1e-12);
+        assert!((dh[150] - 0.05 * 100.0).abs() < 1e-9);
+        let th = Thresholds::default();
+        let mut t = theory(1.5, 0.5);
+        t.haff_rate = None;
+        let c = classify(&s, &th, &t);
+        assert_eq!(c.class, Class::Kinetic);
+        assert!(c.note.starts_with("departure from Haff"), "{}", c.note);
+    }
+
+    #[test]
+    fn settled_needs_the_window_and_for_shearing_a_box_below_l_par() {
+        let th = Thresholds::default();
+        let shear = series(200, 0.1, |t| (if t >= 100.0 { 0.3 } else { 0.0 }, 1.0, 0.0));
+        assert_eq!(
+            settled(&shear, &th, &theory(2.0, 0.8)),
+            Some(Class::Shearing)
+        );
+        assert_eq!(
+            settled(&shear, &th, &theory(2.0, 1.2)),
+            None,
+            "clusters may follow"
+        );
+        let short = series(140, 0.1, |t| (if t >= 100.0 { 0.3 } else { 0.0 }, 1.0, 0.0));
+        assert_eq!(
+            settled(&short, &th, &theory(2.0, 0.8)),
+            None,
+            "held for 39 < 50"
+        );
+        let cluster = series(200, 0.1, |t| (0.3, 1.0, if t >= 120.0 { 0.3 } else { 0.0 }));
+        assert_eq!(
+            settled(&cluster, &th, &theory(2.0, 1.2)),
+            Some(Class::Clustering)
+        );
+    }
+}
