@@ -111,3 +111,32 @@ fn large_cooling_gas_runs_to_tau_2000() {
         ln_t.last().unwrap().1 / std::f64::consts::LN_10
     );
 }
+
+/// In a periodic box momentum is conserved exactly, so the round-off residual of the initial zero
+/// momentum (~1e-16 of the initial velocities) would become the whole kinetic energy below
+/// T/T0 ≈ 1e-32: cooling would stall and cell crossings would swamp the collisions. The engine removes
+/// that uniform drift; the gas must cool on, far below the floor, at a normal cost per collision.
+#[test]
+fn periodic_gas_cools_past_the_momentum_round_off_floor() {
+    let mut p = InitParams::<2>::in_box(183, Vector::<2>::new(24.0, 24.0));
+    p.seed = 3;
+    let mut sim = p
+        .build::<Periodic, _>(ConstantRestitution::new(0.9).unwrap())
+        .unwrap();
+    sim.run(Stop::Tau(600.0));
+    let before = *sim.counters();
+    sim.run(Stop::Tau(700.0));
+    let after = *sim.counters();
+    let per_collision = (after.events - before.events) as f64
+        / (after.pair_collisions - before.pair_collisions) as f64;
+    let log10_t = sim.ln_temperature() / std::f64::consts::LN_10;
+    println!("tau = 700: log10(T/T0) = {log10_t:.1}, events per pair collision {per_collision:.2}");
+    assert!(
+        log10_t < -45.0,
+        "cooling stalled at log10(T/T0) = {log10_t:.1}"
+    );
+    assert!(
+        per_collision < 5.0,
+        "{per_collision} events per pair collision"
+    );
+}

@@ -273,7 +273,7 @@ pub fn theory(spec: &Spec, r: &Replica) -> Theory {
     let grid = spec
         .classify
         .as_ref()
-        .map(|c| c.grid_for(r.dim))
+        .map(|c| c.grid_for(r.n, r.dim))
         .unwrap_or(1);
     Theory {
         haff_rate: matches!(spec.rule, RuleSpec::Constant).then(|| haff_rate(r.dim, r.eps)),
@@ -283,8 +283,15 @@ pub fn theory(spec: &Spec, r: &Replica) -> Theory {
     }
 }
 
-/// Pair collisions between progress reports (and checks of the stop condition).
-const CHUNK_COLLISIONS: u64 = 200_000;
+/// Events between progress reports and checks for ceased collisions.
+const CHUNK_EVENTS: u64 = 500_000;
+
+/// A replica whose last `STALL_WINDOW_PER_PARTICLE`·N events (at least) brought fewer than one pair
+/// collision per `STALL_EVENTS_PER_COLLISION` events has stopped colliding: an inelastic gas can order
+/// into lanes that stream past each other and only cross cells. Without this guard such a replica
+/// would spend ever more events per τ and never end.
+const STALL_EVENTS_PER_COLLISION: u64 = 1000;
+const STALL_WINDOW_PER_PARTICLE: u64 = 1000;
 
 fn flat<const D: usize>(v: &[Vector<D>]) -> Vec<f64> {
     v.iter().flat_map(|x| x.iter().copied()).collect()
@@ -308,7 +315,7 @@ fn simulate<const D: usize, B: Boundary, R: CollisionRule>(
     let n = r.n as f64;
     let volume = sim.box_len().iter().product::<f64>();
     let haff = matches!(spec.rule, RuleSpec::Constant);
-    let grid = spec.classify.as_ref().map(|c| c.grid_for(D));
+    let grid = spec.classify.as_ref().map(|c| c.grid_for(r.n, D));
     let masses = sim.masses();
     let theory = theory(spec, r);
 
@@ -402,16 +409,27 @@ fn simulate<const D: usize, B: Boundary, R: CollisionRule>(
     let mut next = schedule.first_at_or_after(0.0);
     let mut end = RunEnd::Reached;
     let mut stopped_cold = false;
+    let mut stalled = false;
+    let mut window = (sim.counters().events, sim.counters().pair_collisions);
     let mut settled_as: Option<Class> = None;
     while let Some(point) = next {
         // Advance to the sample point in chunks, reporting progress.
         let target = (point * n).ceil() as u64;
-        while end == RunEnd::Reached && sim.counters().pair_collisions < target {
-            let k = (sim.counters().pair_collisions + CHUNK_COLLISIONS).min(target);
-            end = sim.run(Stop::Tau(k as f64 / n));
-            let c = sim.counters().pair_collisions;
-            progress(c - reported);
-            reported = c;
+        while end == RunEnd::Reached && sim.counters().pair_collisions < target && !stalled {
+            // A pair collision is one event, so this many events cannot overshoot the target.
+            let left = target - sim.counters().pair_collisions;
+            end = sim.run(Stop::Events(left.min(CHUNK_EVENTS)));
+            let c = *sim.counters();
+            progress(c.pair_collisions - reported);
+            reported = c.pair_collisions;
+            let (events, pairs) = (c.events - window.0, c.pair_collisions - window.1);
+            if events >= STALL_WINDOW_PER_PARTICLE * r.n as u64 {
+                stalled = pairs * STALL_EVENTS_PER_COLLISION < events;
+                window = (c.events, c.pair_collisions);
+            }
+        }
+        if stalled {
+            break;
         }
         if end != RunEnd::Reached {
             break;
@@ -472,6 +490,14 @@ fn simulate<const D: usize, B: Boundary, R: CollisionRule>(
         RunEnd::Exhausted => (
             Status::Done,
             "no events left: every particle at rest".into(),
+            None,
+        ),
+        RunEnd::Reached if stalled => (
+            Status::Done,
+            format!(
+                "collisions ceased at tau = {:.2}: more than {STALL_EVENTS_PER_COLLISION} events per pair collision (the gas streams in lanes)",
+                sim.tau()
+            ),
             None,
         ),
         RunEnd::Reached if stopped_cold => (

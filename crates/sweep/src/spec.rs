@@ -199,7 +199,7 @@ pub struct StopSpec {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ClassifySpec {
-    /// Cells per axis of the order-parameter grid (default 8 in 2D, 4 in 3D).
+    /// Cells per axis of the order-parameter grid (default: about 16 particles per cell).
     #[serde(default)]
     pub grid: Option<usize>,
     /// Thresholds of the classifier.
@@ -208,9 +208,11 @@ pub struct ClassifySpec {
 }
 
 impl ClassifySpec {
-    /// Cells per axis in `d` dimensions.
-    pub fn grid_for(&self, d: usize) -> usize {
-        self.grid.unwrap_or(if d == 2 { 8 } else { 4 })
+    /// Cells per axis for `n` particles in `d` dimensions: the spec's `grid`, or else about 16
+    /// particles per cell (8 per axis for N = 1024 disks), at least 2.
+    pub fn grid_for(&self, n: usize, d: usize) -> usize {
+        self.grid
+            .unwrap_or_else(|| ((n as f64 / 16.0).powf(1.0 / d as f64).round() as usize).max(2))
     }
 }
 
@@ -314,14 +316,15 @@ pub struct Grid {
     pub boundary: OneOrMany<BoundaryKind>,
     /// Restitution coefficients ε (the rule says how ε is used).
     pub eps: OneOrMany<f64>,
-    /// Packing fractions φ (give exactly one of `phi` and `box`).
+    /// Packing fractions φ (with `n`, or with `box` for N to follow).
     #[serde(default)]
     pub phi: Option<OneOrMany<f64>>,
-    /// Box sides L in particle diameters (square or cubic box; exactly one of `phi` and `box`).
+    /// Box sides L in particle diameters (square or cubic box; with `n`, or with `phi`).
     #[serde(default, rename = "box")]
     pub box_len: Option<OneOrMany<f64>>,
-    /// Particle numbers N.
-    pub n: OneOrMany<usize>,
+    /// Particle numbers N (omit when both `phi` and `box` are given: N = round(φ L^D / v₁)).
+    #[serde(default)]
+    pub n: Option<OneOrMany<usize>>,
     /// Independent seeds per grid point (default 1).
     #[serde(default = "default_seeds")]
     pub seeds: u32,
@@ -550,11 +553,10 @@ impl Spec {
         let bad = |field: &str, value: &dyn fmt::Display, reason: &str| {
             Err(SweepError::Spec(format!("{field} = {value}: {reason}")))
         };
-        let axes: [(&str, usize); 5] = [
+        let axes: [(&str, usize); 4] = [
             ("grid.dim", g.dim.values().len()),
             ("grid.boundary", g.boundary.values().len()),
             ("grid.eps", g.eps.values().len()),
-            ("grid.n", g.n.values().len()),
             ("grid.remedy", g.remedy.values().len()),
         ];
         for (field, len) in axes {
@@ -572,61 +574,70 @@ impl Spec {
                 return bad("grid.eps", &e, "restitution must lie in [0, 1]");
             }
         }
-        for n in g.n.values() {
-            if n < 2 {
-                return bad("grid.n", &n, "need at least 2 particles");
+        match (&g.n, g.phi.is_some() && g.box_len.is_some()) {
+            (Some(_), true) => {
+                return bad(
+                    "grid.n",
+                    &"given",
+                    "omit n when both phi and box are given (N follows from them)",
+                )
             }
-            if n > u32::MAX as usize / 2 {
-                return bad("grid.n", &n, "too many particles");
+            (None, false) => {
+                return bad(
+                    "grid.n",
+                    &"missing",
+                    "give n (or both phi and box, from which N follows)",
+                )
             }
+            (Some(ns), false) => {
+                if ns.values().is_empty() {
+                    return bad("grid.n", &"[]", "empty axis: the grid has no replicas");
+                }
+                for n in ns.values() {
+                    if n < 2 {
+                        return bad("grid.n", &n, "need at least 2 particles");
+                    }
+                    if n > u32::MAX as usize / 2 {
+                        return bad("grid.n", &n, "too many particles");
+                    }
+                }
+            }
+            (None, true) => {}
         }
         if g.seeds == 0 {
             return bad("grid.seeds", &0, "need at least one seed per grid point");
         }
-        match (&g.phi, &g.box_len) {
-            (Some(_), Some(_)) => {
-                return bad(
-                    "grid.phi/grid.box",
-                    &"both",
-                    "give exactly one of phi and box",
-                )
+        if g.phi.is_none() && g.box_len.is_none() {
+            return bad("grid.phi/grid.box", &"neither", "give phi, box, or both");
+        }
+        if let Some(phi) = &g.phi {
+            let v = phi.values();
+            if v.is_empty() {
+                return bad("grid.phi", &"[]", "empty axis: the grid has no replicas");
             }
-            (None, None) => {
-                return bad(
-                    "grid.phi/grid.box",
-                    &"neither",
-                    "give exactly one of phi and box",
-                )
-            }
-            (Some(phi), None) => {
-                let v = phi.values();
-                if v.is_empty() {
-                    return bad("grid.phi", &"[]", "empty axis: the grid has no replicas");
-                }
-                for p in v {
-                    for d in g.dim.values() {
-                        if !(p > 0.0 && p < close_packing(d)) {
-                            return bad(
-                                "grid.phi",
-                                &p,
-                                &format!(
-                                    "packing fraction must lie in (0, {:.4}), the close packing in {d}D",
-                                    close_packing(d)
-                                ),
-                            );
-                        }
+            for p in v {
+                for d in g.dim.values() {
+                    if !(p > 0.0 && p < close_packing(d)) {
+                        return bad(
+                            "grid.phi",
+                            &p,
+                            &format!(
+                                "packing fraction must lie in (0, {:.4}), the close packing in {d}D",
+                                close_packing(d)
+                            ),
+                        );
                     }
                 }
             }
-            (None, Some(side)) => {
-                let v = side.values();
-                if v.is_empty() {
-                    return bad("grid.box", &"[]", "empty axis: the grid has no replicas");
-                }
-                for l in v {
-                    if !(l > 0.0 && l.is_finite()) {
-                        return bad("grid.box", &l, "box side must be positive");
-                    }
+        }
+        if let Some(side) = &g.box_len {
+            let v = side.values();
+            if v.is_empty() {
+                return bad("grid.box", &"[]", "empty axis: the grid has no replicas");
+            }
+            for l in v {
+                if !(l > 0.0 && l.is_finite()) {
+                    return bad("grid.box", &l, "box side must be positive");
                 }
             }
         }
@@ -768,32 +779,48 @@ impl Spec {
     }
 
     fn expand(&self, g: &Grid, out: &mut Vec<Replica>) {
-        let densities: Vec<Density> = match (&g.phi, &g.box_len) {
-            (Some(p), _) => p.values().into_iter().map(Density::Phi).collect(),
-            (None, Some(l)) => l.values().into_iter().map(Density::Side).collect(),
-            (None, None) => Vec::new(),
-        };
+        let ns = g.n.as_ref().map(|n| n.values()).unwrap_or_default();
+        let phis = g.phi.as_ref().map(|p| p.values()).unwrap_or_default();
+        let sides = g.box_len.as_ref().map(|l| l.values()).unwrap_or_default();
         for dim in g.dim.values() {
+            // (N, box) pairs: N × φ, N × L, or N = round(φ L^D / v₁) for φ × L.
+            let pairs: Vec<(usize, Density)> = match (phis.is_empty(), sides.is_empty()) {
+                (false, true) => ns
+                    .iter()
+                    .flat_map(|&n| phis.iter().map(move |&p| (n, Density::Phi(p))))
+                    .collect(),
+                (true, false) => ns
+                    .iter()
+                    .flat_map(|&n| sides.iter().map(move |&l| (n, Density::Side(l))))
+                    .collect(),
+                _ => phis
+                    .iter()
+                    .flat_map(|&p| {
+                        sides.iter().map(move |&l| {
+                            let n = (p * l.powi(dim as i32) / ball_volume(dim)).round();
+                            ((n as usize).max(2), Density::Side(l))
+                        })
+                    })
+                    .collect(),
+            };
             for boundary in g.boundary.values() {
                 for remedy in g.remedy.values() {
-                    for n in g.n.values() {
-                        for &density in &densities {
-                            for eps in g.eps.values() {
-                                for seed_index in 0..g.seeds {
-                                    let mut r = Replica {
-                                        index: out.len(),
-                                        dim,
-                                        boundary,
-                                        eps,
-                                        density,
-                                        n,
-                                        seed_index,
-                                        remedy,
-                                        seed: 0,
-                                    };
-                                    r.seed = self.replica_seed(&r);
-                                    out.push(r);
-                                }
+                    for &(n, density) in &pairs {
+                        for eps in g.eps.values() {
+                            for seed_index in 0..g.seeds {
+                                let mut r = Replica {
+                                    index: out.len(),
+                                    dim,
+                                    boundary,
+                                    eps,
+                                    density,
+                                    n,
+                                    seed_index,
+                                    remedy,
+                                    seed: 0,
+                                };
+                                r.seed = self.replica_seed(&r);
+                                out.push(r);
                             }
                         }
                     }
