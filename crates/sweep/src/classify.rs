@@ -4,12 +4,18 @@
 //! * **clustering**: δ²ρ − δ²ρ(0) ≥ `cluster_density`, or f₂ₓ ≥ `cluster_f2x` with at least
 //!   `cluster_f2x_min_per_cell` particles per cell, or S_ρ(k₁) ≥ `cluster_s_rho` at
 //!   `sustain` consecutive samples;
-//! * **shearing**: f_flow ≥ `shear_flow`, or S⊥(k₁) ≥ `shear_s_perp` and growing;
+//! * **shearing**: S⊥(k₁) ≥ `shear_s_perp`. (PHYSICS.md §5.2 reads "f_flow ≥ 0.1, or S⊥ ≥ 20 and
+//!   growing". S⊥ alone is used because it needs no grid, and its level in a stable box is known:
+//!   1/(1 − (L/L⊥)²), below 20 unless L > 0.975 L⊥, so a 20 sustained over the window means a growing
+//!   or grown shear mode. f_flow depends on the grid and, in small boxes, has a noise floor of about
+//!   4 S⊥/N that reaches 0.1 below L⊥; it is reported and used by the kinetic predicate.)
 //! * **kinetic**: ΔH < `haff`, f_flow < `kinetic_flow` and δ²ρ − δ²ρ(0) < `kinetic_density`.
 //!
-//! The class is read at the last sample: clustering if its predicate holds, else shearing, else kinetic.
-//! A last sample that is none of the three (a departure from Haff's law with little flow) is shearing
-//! when f_flow ≥ `kinetic_flow`, kinetic otherwise, with a note. First-passage τ of the shearing and
+//! The class is the most advanced regime whose predicate held without a break over `settle_window` in
+//! τ at some time of the run (clustering before shearing); failing that, the predicate that holds at
+//! the last sample (with a note that it was not sustained), else kinetic (with a note when the last
+//! sample is not kinetic either: a departure from Haff's law without sustained structure). Because a sustained class never reverts, a replica stopped once
+//! clustering is sustained (`stop.classified`) gets the label the full run would give. First-passage τ of the shearing and
 //! clustering predicates are reported. A kinetic label gets a note saying whether linear theory
 //! predicts stability (L < L⊥) or whether the run ended before the onset time 3/r⊥.
 
@@ -27,9 +33,7 @@ pub struct Thresholds {
     pub kinetic_flow: f64,
     /// δ²ρ − δ²ρ(0) below which the gas is kinetic (default 0.05).
     pub kinetic_density: f64,
-    /// f_flow at and above which the gas shears (default 0.1).
-    pub shear_flow: f64,
-    /// S⊥(k₁) at and above which, while growing, the gas shears (default 20).
+    /// S⊥(k₁) at and above which the gas shears (default 20).
     pub shear_s_perp: f64,
     /// δ²ρ − δ²ρ(0) at and above which the gas clusters (default 0.15).
     pub cluster_density: f64,
@@ -52,7 +56,6 @@ impl Default for Thresholds {
             haff: 0.1,
             kinetic_flow: 0.05,
             kinetic_density: 0.05,
-            shear_flow: 0.1,
             shear_s_perp: 20.0,
             cluster_density: 0.15,
             cluster_f2x: 0.05,
@@ -232,8 +235,7 @@ fn predicates(s: &OrderSeries, dh: &[f64], th: &Thresholds, per_cell: f64) -> Pr
         p.clustering[i] = contrast >= th.cluster_density
             || (s.f_2x[i] >= th.cluster_f2x && per_cell >= th.cluster_f2x_min_per_cell)
             || rho_run >= th.sustain;
-        let growing = i > 0 && s.s_perp[i] > s.s_perp[i - 1];
-        p.shearing[i] = s.f_flow[i] >= th.shear_flow || (s.s_perp[i] >= th.shear_s_perp && growing);
+        p.shearing[i] = s.s_perp[i] >= th.shear_s_perp;
         let dhi = if dh[i].is_nan() { 0.0 } else { dh[i] };
         p.kinetic[i] =
             dhi < th.haff && s.f_flow[i] < th.kinetic_flow && contrast < th.kinetic_density;
@@ -266,23 +268,24 @@ pub fn classify(s: &OrderSeries, th: &Thresholds, theory: &Theory) -> Classifica
     let last = n - 1;
     let tau_end = s.tau[last];
     let mut note = String::new();
-    let class = if p.clustering[last] {
+    let window = th.settle_window;
+    let class = if sustained(&s.tau, &p.clustering, window).is_some() {
+        Class::Clustering
+    } else if sustained(&s.tau, &p.shearing, window).is_some() {
+        Class::Shearing
+    } else if p.clustering[last] {
+        note = format!("clustering at the end, held for less than the window of {window} in tau");
         Class::Clustering
     } else if p.shearing[last] {
-        Class::Shearing
-    } else if p.kinetic[last] {
-        Class::Kinetic
-    } else if s.f_flow[last] >= th.kinetic_flow {
-        note = format!(
-            "weak shear: f_flow = {:.3} below the shearing threshold {}",
-            s.f_flow[last], th.shear_flow
-        );
+        note = format!("shearing at the end, held for less than the window of {window} in tau");
         Class::Shearing
     } else {
-        note = format!(
-            "departure from Haff's law (Delta H = {:.3}) without flow or density structure",
-            dh[last]
-        );
+        if !p.kinetic[last] {
+            note = format!(
+                "departure from Haff's law without sustained shear or clusters (Delta H = {:.3}, f_flow = {:.3}, S_perp = {:.1})",
+                dh[last], s.f_flow[last], s.s_perp[last]
+            );
+        }
         Class::Kinetic
     };
     if class == Class::Kinetic && note.is_empty() {
@@ -314,31 +317,34 @@ pub fn classify(s: &OrderSeries, th: &Thresholds, theory: &Theory) -> Classifica
     }
 }
 
+/// The τ at which a predicate first began a run that lasted at least `window` in τ.
+fn sustained(tau: &[f64], holds: &[bool], window: f64) -> Option<f64> {
+    let mut start: Option<usize> = None;
+    for (i, &h) in holds.iter().enumerate() {
+        if h {
+            let s = *start.get_or_insert(i);
+            if tau[i] - tau[s] >= window {
+                return Some(tau[s]);
+            }
+        } else {
+            start = None;
+        }
+    }
+    None
+}
+
 /// Whether a running replica's class is settled, so that `stop.classified` may end it: clustering
-/// held over the last `settle_window` in τ, or shearing held that long in a box below the clustering
-/// size (L < L∥), where linear theory predicts no clusters to follow.
+/// has held over `settle_window` in τ. Clustering is the last class in the order kinetic → shearing →
+/// clustering, so the label is then final: the run to τ_max would give the same. Shearing is never
+/// settled early: a shearing gas may still cluster later (even below L∥, through nonlinear
+/// shear-driven compression).
 pub fn settled(s: &OrderSeries, th: &Thresholds, theory: &Theory) -> Option<Class> {
-    let n = s.tau.len();
-    if n < 2 {
+    if s.tau.len() < 2 {
         return None;
     }
     let (dh, _) = haff_deviation(s, th.haff_tau0, theory.haff_rate);
     let p = predicates(s, &dh, th, theory.per_cell);
-    let held = |v: &[bool]| -> bool {
-        let end = s.tau[n - 1];
-        let mut i = n;
-        while i > 0 && v[i - 1] {
-            i -= 1;
-        }
-        i < n && end - s.tau[i] >= th.settle_window
-    };
-    if held(&p.clustering) {
-        Some(Class::Clustering)
-    } else if theory.l_over_l_par < 1.0 && held(&p.shearing) {
-        Some(Class::Shearing)
-    } else {
-        None
-    }
+    sustained(&s.tau, &p.clustering, th.settle_window).map(|_| Class::Clustering)
 }
 
 #[cfg(test)]
@@ -392,13 +398,12 @@ mod tests {
 
     #[test]
     fn growing_flow_is_shearing_with_its_first_passage() {
-        let s = series(300, 0.1, |t| {
-            (0.001 * (t / 20.0).exp().min(500.0), 1.0, 0.0)
-        });
+        let grow = |t: f64| (t / 20.0).exp().min(500.0);
+        let s = series(300, 0.1, |t| (0.001 * grow(t), 10.0 * grow(t), 0.0));
         let c = classify(&s, &Thresholds::default(), &theory(2.0, 0.8));
         assert_eq!(c.class, Class::Shearing);
-        // f_flow = 0.1 at t = 20 ln 100 = 92.1: first sample at or after is τ = 93.
-        assert_eq!(c.shear_onset, 93.0);
+        // S⊥ = 20 at t = 20 ln 2 = 13.9: first sample at or after is τ = 14.
+        assert_eq!(c.shear_onset, 14.0);
         assert!(c.cluster_onset.is_nan());
     }
 
@@ -434,28 +439,49 @@ mod tests {
     }
 
     #[test]
-    fn settled_needs_the_window_and_for_shearing_a_box_below_l_par() {
+    fn settled_only_by_sustained_clustering() {
         let th = Thresholds::default();
         let shear = series(200, 0.1, |t| (if t >= 100.0 { 0.3 } else { 0.0 }, 1.0, 0.0));
         assert_eq!(
             settled(&shear, &th, &theory(2.0, 0.8)),
-            Some(Class::Shearing)
-        );
-        assert_eq!(
-            settled(&shear, &th, &theory(2.0, 1.2)),
             None,
-            "clusters may follow"
-        );
-        let short = series(140, 0.1, |t| (if t >= 100.0 { 0.3 } else { 0.0 }, 1.0, 0.0));
-        assert_eq!(
-            settled(&short, &th, &theory(2.0, 0.8)),
-            None,
-            "held for 39 < 50"
+            "a shearing gas may still cluster"
         );
         let cluster = series(200, 0.1, |t| (0.3, 1.0, if t >= 120.0 { 0.3 } else { 0.0 }));
         assert_eq!(
             settled(&cluster, &th, &theory(2.0, 1.2)),
             Some(Class::Clustering)
         );
+        let short = series(160, 0.1, |t| (0.3, 1.0, if t >= 120.0 { 0.3 } else { 0.0 }));
+        assert_eq!(
+            settled(&short, &th, &theory(2.0, 1.2)),
+            None,
+            "held for 39 < 50"
+        );
+    }
+
+    #[test]
+    fn a_sustained_class_never_reverts_but_a_blip_does_not_count() {
+        let th = Thresholds::default();
+        // Clusters from τ = 50 to 150 that dissolve again: still clustering (monotone label).
+        let s = series(300, 0.1, |t| {
+            (
+                0.3,
+                1.0,
+                if (50.0..=150.0).contains(&t) {
+                    0.3
+                } else {
+                    0.0
+                },
+            )
+        });
+        let c = classify(&s, &th, &theory(3.0, 1.5));
+        assert_eq!(c.class, Class::Clustering);
+        assert_eq!(c.cluster_onset, 50.0);
+        // A 20-τ blip of density in a shearing gas is not clustering.
+        let s = series(300, 0.1, |t| {
+            (0.3, 50.0, if (50.0..70.0).contains(&t) { 0.3 } else { 0.0 })
+        });
+        assert_eq!(classify(&s, &th, &theory(3.0, 1.5)).class, Class::Shearing);
     }
 }

@@ -721,7 +721,6 @@ impl Spec {
                 ("classify.thresholds.haff", t.haff),
                 ("classify.thresholds.kinetic_flow", t.kinetic_flow),
                 ("classify.thresholds.kinetic_density", t.kinetic_density),
-                ("classify.thresholds.shear_flow", t.shear_flow),
                 ("classify.thresholds.shear_s_perp", t.shear_s_perp),
                 ("classify.thresholds.cluster_density", t.cluster_density),
                 ("classify.thresholds.cluster_f2x", t.cluster_f2x),
