@@ -60,3 +60,15 @@ def partial_sweep(tmp_path_factory) -> Path:
     spec.write_text(json.dumps(SPEC))
     run_edmd("run", spec, "-o", d / "out", "-q", "--shard", "0/2")
     return d / "out"
+
+
+@pytest.fixture(scope="session")
+def classified_sweep(tmp_path_factory) -> Path:
+    """A sweep with order parameters and classification, and its phase table as JSON."""
+    d = tmp_path_factory.mktemp("classified")
+    spec = dict(SPEC, name="pytest-classified", grid=SPEC["grid"][0], classify={})
+    (d / "spec.json").write_text(json.dumps(spec))
+    run_edmd("run", d / "spec.json", "-o", d / "out", "-q")
+    table = run_edmd("summarize", d / "out", "--format", "json").stdout
+    (d / "out" / "phase.json").write_text(table)
+    return d / "out"
