@@ -1,5 +1,7 @@
 # edmd: event-driven molecular dynamics of granular gases.
-#   make run       the quick default sweep (sweeps/quick.json): phase table and files in edmd-out/quick
+#   make run       the quick default sweep (sweeps/quick.json): phase table, files and a figure report
+#                  (edmd-out/quick/report/index.html)
+#   make figures   the report of the quick sweep, or of any sweep with OUT=dir
 #   make test      everything CI checks (format, lints, Rust tests, Python tests, benchmark smoke run)
 #   make bench     collisions/s and peak bytes per particle over N and phi (or one case: D= N= PHI= EPS=)
 #   make validate  long equilibrium-accuracy runs (chi against Luding / Carnahan-Starling)
@@ -11,7 +13,7 @@ PYTHON ?= python3
 VENV := .venv
 APT_PACKAGES := libhdf5-dev hdf5-tools pkg-config
 
-.PHONY: all deps build run demo cli test test-rust test-python lint bench bench-smoke validate clean
+.PHONY: all deps build run figures demo cli test test-rust test-python lint bench bench-smoke validate clean
 
 all: build
 
@@ -31,8 +33,14 @@ deps:
 build:
 	$(CARGO) build --release --workspace --all-targets
 
-run:
-	$(CARGO) run --release -q -p edmd-sweep --bin edmd -- run
+run: deps
+	$(CARGO) run --release -q -p edmd-sweep --bin edmd -- run -o edmd-out/quick
+	$(VENV)/bin/python -m edmd_analysis report edmd-out/quick -o edmd-out/quick/report
+
+# The report (PNG figures and index.html) of the quick sweep; `make figures OUT=dir` for another sweep.
+figures: deps
+	@[ -n "$(OUT)" ] || $(MAKE) --no-print-directory run
+	@[ -z "$(OUT)" ] || $(VENV)/bin/python -m edmd_analysis report $(OUT) -o $(OUT)/report
 
 demo:
 	$(CARGO) run --release -q -p edmd-core --example cooling

@@ -35,6 +35,8 @@ def cooling(ax, rep, log_tau: bool = True, label: Optional[str] = None):
     if haff is not None and np.isfinite(haff).any():
         ax.plot(tau[keep], haff[keep] / haff[0], "k--", lw=1, label="Haff's law")
     ax.set_yscale("log")
+    # Haff's law may fall far below a gas that left it: keep the simulation in view.
+    ax.set_ylim(bottom=max(ratio[keep].min() * 1e-2, 1e-300), top=2.0)
     if log_tau:
         ax.set_xscale("log")
     ax.set_xlabel("tau = collisions per particle")

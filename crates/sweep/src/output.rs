@@ -6,6 +6,7 @@
 //! OUT/sweep.h5           index: one column per parameter / result, external links to the replicas
 //! OUT/summary.csv        the same table as CSV
 //! OUT/summary.json       the same table as JSON
+//! OUT/phase.json         the phase table (one row per grid point, with theory's L/L⊥, L/L∥)
 //! ```
 
 use std::fs;
@@ -52,9 +53,16 @@ fn tmp_path(path: &Path) -> PathBuf {
 /// log) would have put there.
 fn has_foreign_files(root: &Path) -> Result<bool, SweepError> {
     let ours = |name: &str| {
-        ["spec.json", "replicas", "sweep.h5", "summary."]
-            .iter()
-            .any(|p| name.starts_with(p))
+        [
+            "spec.json",
+            "replicas",
+            "sweep.h5",
+            "summary.",
+            "phase.json",
+            "report",
+        ]
+        .iter()
+        .any(|p| name.starts_with(p))
             || name.ends_with(".log")
     };
     for entry in fs::read_dir(root).map_err(|e| io_err("cannot read", root, e))? {
@@ -130,7 +138,13 @@ impl OutDir {
     }
 
     fn remove_sweep_files(&self) -> Result<(), SweepError> {
-        for name in ["sweep.h5", "summary.csv", "summary.json", "spec.json"] {
+        for name in [
+            "sweep.h5",
+            "summary.csv",
+            "summary.json",
+            "phase.json",
+            "spec.json",
+        ] {
             let p = self.root.join(name);
             if p.exists() {
                 fs::remove_file(&p).map_err(|e| io_err("cannot remove", &p, e))?;
@@ -204,6 +218,9 @@ impl OutDir {
         write_atomic(&self.root.join("summary.csv"), to_csv(&records).as_bytes())?;
         let json = serde_json::to_string_pretty(&records).expect("records serialise");
         write_atomic(&self.root.join("summary.json"), json.as_bytes())?;
+        let table = crate::summary::phase_table(spec, &records);
+        let phase = crate::summary::render(&table, crate::summary::Format::Json);
+        write_atomic(&self.root.join("phase.json"), phase.as_bytes())?;
         Ok(records)
     }
 }

@@ -1,0 +1,148 @@
+"""``python -m edmd_analysis report OUT -o REPORT``: every figure of a sweep as PNG, and an index.html
+that shows them with the sweep's parameters and phase table.
+
+Figures (one panel per grid point, first seed; at most ``max_points`` grid points):
+cooling (log-log and semi-log, with Haff's law), snapshots with velocity arrows (2D), velocity
+histograms of the whole box and the half-boxes, order parameters (classified sweeps), and the phase
+diagram (classified sweeps). The phase table and its theory columns come from OUT/phase.json, written
+by the edmd binary.
+"""
+
+from __future__ import annotations
+
+import html
+import json
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from . import io, plots  # noqa: E402
+
+
+def _first_seed_per_point(index: io.Index, max_points: int):
+    """Indices of the first finished replica of each grid point, in sweep order."""
+    seen, chosen = set(), []
+    for i in range(len(index)):
+        key = tuple(index[c][i] for c in ("dim", "boundary", "remedy", "n", "phi", "box_side", "eps"))
+        if key in seen or index["status"][i] == "failed" or index["status"][i] == "missing":
+            continue
+        seen.add(key)
+        chosen.append(i)
+    return chosen[:max_points]
+
+
+def _title(index: io.Index, i: int) -> str:
+    return (f"eps={index['eps'][i]:g} N={index['n'][i]} phi={index['phi'][i]:.3g} "
+            f"{index['boundary'][i]} ({index['class'][i]})")
+
+
+def _panels(count: int, width: float = 4.0, height: float = 3.4):
+    cols = min(count, 4)
+    rows = int(np.ceil(count / cols))
+    fig, axes = plt.subplots(rows, cols, figsize=(width * cols, height * rows), squeeze=False)
+    for ax in axes.flat[count:]:
+        ax.set_visible(False)
+    return fig, list(axes.flat[:count])
+
+
+def _save(fig, dest: Path, name: str, saved: list):
+    fig.tight_layout()
+    path = dest / f"{name}.png"
+    fig.savefig(path, dpi=80)
+    plt.close(fig)
+    saved.append(path.name)
+
+
+def _x_axis(rows):
+    """The phase diagram's abscissa: the grid axis that varies (L/L_perp for box scans)."""
+    for key, x in (("box_side", "l_over_l_perp"), ("phi", "phi"), ("n", "n")):
+        if len({r[key] for r in rows}) > 1:
+            return x
+    return "l_over_l_perp"
+
+
+def report(out, dest, max_points: int = 24) -> Path:
+    """Writes the report of the sweep in ``out`` into ``dest``; returns the path of index.html."""
+    out, dest = Path(out), Path(dest)
+    dest.mkdir(parents=True, exist_ok=True)
+    index = io.read_index(out)
+    phase_path = out / "phase.json"
+    rows = json.loads(phase_path.read_text()) if phase_path.exists() else []
+    chosen = _first_seed_per_point(index, max_points)
+    saved: list = []
+    reps = [io.read_replica(index.replica_path(i)) for i in chosen]
+    if reps:
+        for log_tau, name in ((True, "cooling-loglog"), (False, "cooling-semilog")):
+            fig, axes = _panels(len(reps))
+            for ax, rep, i in zip(axes, reps, chosen):
+                plots.cooling(ax, rep, log_tau=log_tau)
+                ax.set_title(_title(index, i), fontsize="small")
+            _save(fig, dest, name, saved)
+    two_d = [i for i in chosen if index["dim"][i] == 2]
+    for i in two_d:
+        snaps = io.read_snapshots(index.replica_path(i))
+        k = len(snaps.step)
+        fig, axes = _panels(k, 4.0, 4.0)
+        for j, ax in enumerate(axes):
+            plots.snapshot(ax, snaps, k=j)
+        fig.suptitle(_title(index, i))
+        _save(fig, dest, f"snapshots-r{int(index['index'][i]):05d}", saved)
+    if chosen:
+        fig, axes = _panels(len(chosen))
+        for ax, i in zip(axes, chosen):
+            plots.velocity_histograms(ax, io.read_snapshots(index.replica_path(i)))
+            ax.set_title(_title(index, i), fontsize="small")
+        _save(fig, dest, "velocity-histograms", saved)
+    classified = [(rep, i) for rep, i in zip(reps, chosen) if "s_perp" in rep.observables]
+    if classified:
+        fig, axes = _panels(len(classified))
+        for ax, (rep, i) in zip(axes, classified):
+            plots.order_parameters(ax, rep)
+            ax.set_title(_title(index, i), fontsize="small")
+        _save(fig, dest, "order-parameters", saved)
+        if rows and any(r.get("kinetic") is not None for r in rows):
+            fig, ax = plt.subplots(figsize=(6.5, 5))
+            plots.phase_diagram(ax, rows, x=_x_axis(rows))
+            _save(fig, dest, "phase-diagram", saved)
+    page = dest / "index.html"
+    page.write_text(_html(index, rows, saved))
+    return page
+
+
+def _html(index: io.Index, rows, images) -> str:
+    spec = index.spec
+    head = ["eps", "n", "phi", "box_side", "boundary", "remedy", "seeds", "done", "collapsed",
+            "failed", "tau_end", "log10_t_ratio", "log10_t_haff", "l_over_l_perp", "l_over_l_par",
+            "kinetic", "shearing", "clustering", "shear_onset_tau", "cluster_onset_tau"]
+
+    def cell(v):
+        if v is None:
+            return "-"
+        if isinstance(v, float):
+            return f"{v:.3g}"
+        return html.escape(str(v))
+
+    table = "<tr>" + "".join(f"<th>{h}</th>" for h in head) + "</tr>\n"
+    for r in rows:
+        table += "<tr>" + "".join(f"<td>{cell(r.get(h))}</td>" for h in head) + "</tr>\n"
+    figures = "\n".join(f'<h3>{html.escape(name)}</h3><img src="{html.escape(name)}" style="max-width:100%">'
+                        for name in images)
+    return f"""<!DOCTYPE html>
+<html><head><meta charset="utf-8"><title>edmd sweep {html.escape(index.name)}</title>
+<style>body{{font-family:sans-serif;margin:2em}} table{{border-collapse:collapse;font-size:small}}
+td,th{{border:1px solid #ccc;padding:2px 6px;text-align:right}}</style></head><body>
+<h1>Sweep {html.escape(index.name)}</h1>
+<p>{html.escape(spec.get("description", ""))}</p>
+<h2>Phase table</h2>
+<table>
+{table}</table>
+<h2>Figures</h2>
+{figures}
+<h2>Spec</h2>
+<pre>{html.escape(json.dumps(spec, indent=2))}</pre>
+</body></html>
+"""

@@ -1,0 +1,35 @@
+"""The report command writes every figure type and an index.html with the phase table."""
+
+import pytest
+
+from edmd_analysis import report as report_module
+from edmd_analysis.__main__ import main
+
+
+def test_report_of_a_classified_sweep(classified_sweep, tmp_path):
+    page = report_module.report(classified_sweep, tmp_path / "rep")
+    names = sorted(p.name for p in (tmp_path / "rep").glob("*.png"))
+    for expected in ("cooling-loglog.png", "cooling-semilog.png", "velocity-histograms.png",
+                     "order-parameters.png", "phase-diagram.png"):
+        assert expected in names
+    assert any(n.startswith("snapshots-r") for n in names)
+    text = page.read_text()
+    assert "pytest-classified" in text and "<table>" in text
+    for name in names:
+        assert f'src="{name}"' in text
+    assert text.count("<tr>") == 1 + 2  # header and two grid points (eps 0.9 and 0.7)
+
+
+def test_report_cli(sweep, partial_sweep, tmp_path, capsys):
+    assert main(["report", str(sweep), "-o", str(tmp_path / "r")]) == 0
+    assert "report:" in capsys.readouterr().out
+    # 3D replicas get no snapshot panels; unclassified sweeps no order parameters.
+    names = {p.name for p in (tmp_path / "r").glob("*.png")}
+    assert "order-parameters.png" not in names and "cooling-loglog.png" in names
+    assert main(["report", str(partial_sweep)]) == 1
+    assert "incomplete" in capsys.readouterr().err
+
+
+def test_report_needs_a_sweep(tmp_path):
+    with pytest.raises(FileNotFoundError):
+        report_module.report(tmp_path, tmp_path / "r")
