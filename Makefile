@@ -4,6 +4,7 @@
 #   make figures   the report of the quick sweep, or of any sweep with OUT=dir
 #   make test      everything CI checks (format, lints, Rust tests, Python tests, benchmark smoke run)
 #   make bench     collisions/s and peak bytes per particle over N and phi (or one case: D= N= PHI= EPS=)
+#   make stress    stress tests at full size (numerical stability; CI runs short versions)
 #   make validate  long equilibrium-accuracy runs (chi against Luding / Carnahan-Starling)
 #   make deps      system packages (libhdf5-dev, hdf5-tools) and the Python venv for analysis/
 
@@ -13,7 +14,7 @@ PYTHON ?= python3
 VENV := .venv
 APT_PACKAGES := libhdf5-dev hdf5-tools pkg-config
 
-.PHONY: all deps build run figures demo cli test test-rust test-python lint bench bench-smoke validate clean
+.PHONY: all deps build run figures demo cli test test-rust test-python lint bench bench-smoke bench-nightly bench-accuracy stress validate clean
 
 all: build
 
@@ -73,6 +74,11 @@ ifdef N
 else
 	$(CARGO) run --release -q --bin edmd-bench -- --matrix
 endif
+
+# Stress tests at full size (10^8 elastic collisions, T/T0 < 1e-1000, N = 10^7 disks, 2000 fuzz
+# cases); `cargo test` runs short versions. Figures: docs/benchmarks.md.
+stress:
+	EDMD_STRESS=1 PROPTEST_CASES=2000 $(CARGO) test --release -p edmd-core --test stress --test fuzz -- --nocapture --test-threads 1
 
 validate:
 	EDMD_VALIDATE=1 $(CARGO) test --release -p edmd-core --test equilibrium -- --nocapture --test-threads 1
