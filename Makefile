@@ -4,6 +4,9 @@
 #   make figures   the report of the quick sweep, or of any sweep with OUT=dir
 #   make test      everything CI checks (format, lints, Rust tests, Python tests, benchmark smoke run)
 #   make bench     collisions/s and peak bytes per particle over N and phi (or one case: D= N= PHI= EPS=)
+#   make bench-nightly  the fixed benchmark matrix with history and regression flags
+#   make bench-accuracy  run time against error (remedies, statistics, classification)
+#   make test-slurm  sweeps on a real single-node Slurm (also part of make test)
 #   make stress    stress tests at full size (numerical stability; CI runs short versions)
 #   make validate  long equilibrium-accuracy runs (chi against Luding / Carnahan-Starling)
 #   make deps      system packages (libhdf5-dev, hdf5-tools) and the Python venv for analysis/
@@ -14,7 +17,7 @@ PYTHON ?= python3
 VENV := .venv
 APT_PACKAGES := libhdf5-dev hdf5-tools pkg-config
 
-.PHONY: all deps build run figures demo cli test test-rust test-python lint bench bench-smoke bench-nightly bench-accuracy stress validate clean
+.PHONY: all deps build run figures demo cli test test-rust test-python lint bench bench-smoke bench-nightly bench-accuracy stress test-slurm validate clean
 
 all: build
 
@@ -64,7 +67,7 @@ bench-smoke:
 	$(CARGO) bench --bench calendar -- --quick --noplot
 	$(CARGO) run --release -q --bin edmd-bench -- --d 2 --n 10000 --phi 0.3 --repeats 1 --collisions-per-particle 5
 
-test: deps lint test-rust test-python bench-smoke
+test: deps lint test-rust test-python test-slurm bench-smoke
 
 # `make bench` runs the matrix; `make bench D=2 N=10000 PHI=0.3 [EPS=1]` runs one case and ends
 # with `collisions_per_s=<number> bytes_per_particle=<number>`.
@@ -79,6 +82,23 @@ endif
 # cases); `cargo test` runs short versions. Figures: docs/benchmarks.md.
 stress:
 	EDMD_STRESS=1 PROPTEST_CASES=2000 $(CARGO) test --release -p edmd-core --test stress --test fuzz -- --nocapture --test-threads 1
+
+# The nightly matrix (D, N, phi, eps): appends to benches/history.jsonl, prints a table and flags
+# cases > 10 % slower than the previous entry on this machine (exit 1). NIGHTLY_ARGS="--only D=2,N=10000".
+bench-nightly:
+	$(CARGO) build --release -q --bin edmd-bench
+	$(PYTHON) scripts/bench-nightly.py $(NIGHTLY_ARGS)
+
+# Run time against error: collapse remedies, statistics, classification (table + PNG in bench-out/accuracy).
+bench-accuracy: deps
+	$(CARGO) build --release -q --bin edmd-accuracy -p edmd
+	$(CARGO) build --release -q -p edmd-sweep --bin edmd
+	$(VENV)/bin/python scripts/bench-accuracy.py -o bench-out/accuracy
+
+# A real single-node Slurm (munge, slurmctld, slurmd from Debian's packages): a 4-task array sweep
+# equals a local run; a cancelled task is finished by rerunning the submit command.
+test-slurm: cli
+	PY=$(CURDIR)/$(VENV)/bin/python EDMD=$(CURDIR)/target/release/edmd bash tests/slurm/test-slurm.sh
 
 validate:
 	EDMD_VALIDATE=1 $(CARGO) test --release -p edmd-core --test equilibrium -- --nocapture --test-threads 1

@@ -43,6 +43,8 @@ struct Case {
 }
 
 struct Outcome {
+    collisions: u64,
+    secs: f64,
     median: f64,
     spread: f64,
     bytes_per_particle: f64,
@@ -52,15 +54,17 @@ fn measure<const D: usize>(
     case: &Case,
     repeats: usize,
     per_particle: f64,
+    melt_tau: f64,
 ) -> Result<Outcome, String> {
     let base = CURRENT.load(Relaxed);
     PEAK.store(base, Relaxed);
     let mut p = InitParams::<D>::with_packing(case.n, case.phi).map_err(|e| e.to_string())?;
     p.seed = 1;
-    p.melt_tau = Some(5.0);
+    p.melt_tau = Some(melt_tau);
     let rule = ConstantRestitution::new(case.eps).map_err(|e| e.to_string())?;
     let mut sim = p.build::<Periodic, _>(rule).map_err(|e| e.to_string())?;
     let mut rates = Vec::new();
+    let (mut collisions, mut total) = (0, 0.0);
     for _ in 0..repeats {
         let c0 = sim.counters().pair_collisions;
         let tau0 = sim.tau();
@@ -68,6 +72,8 @@ fn measure<const D: usize>(
         sim.run(Stop::Tau(tau0 + per_particle));
         let secs = start.elapsed().as_secs_f64();
         rates.push((sim.counters().pair_collisions - c0) as f64 / secs);
+        collisions += sim.counters().pair_collisions - c0;
+        total += secs;
         if case.eps < 1.0 {
             // Keep an inelastic gas at T ≈ 1 so every repeat sees the same event rate.
             let t = sim.temperature();
@@ -80,18 +86,25 @@ fn measure<const D: usize>(
     let median = rates[rates.len() / 2];
     let spread = (rates[rates.len() - 1] - rates[0]) / median;
     Ok(Outcome {
+        collisions,
+        secs: total,
         median,
         spread,
         bytes_per_particle: peak as f64 / case.n as f64,
     })
 }
 
-fn run_case(case: &Case, repeats: usize, per_particle: Option<f64>) -> Result<Outcome, String> {
+fn run_case(
+    case: &Case,
+    repeats: usize,
+    per_particle: Option<f64>,
+    melt_tau: f64,
+) -> Result<Outcome, String> {
     // About 5·10^6 collisions per repeat (at least 2 and at most 200 per particle).
     let per_particle = per_particle.unwrap_or_else(|| (5e6 / case.n as f64).clamp(2.0, 200.0));
     match case.d {
-        2 => measure::<2>(case, repeats, per_particle),
-        3 => measure::<3>(case, repeats, per_particle),
+        2 => measure::<2>(case, repeats, per_particle, melt_tau),
+        3 => measure::<3>(case, repeats, per_particle, melt_tau),
         d => Err(format!("invalid --d = {d}: the dimension must be 2 or 3")),
     }
 }
@@ -117,12 +130,16 @@ fn main() {
 fn real_main() -> Result<(), String> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     if args.iter().any(|a| a == "--help" || a == "-h") {
-        println!("usage: edmd-bench [--d 2|3] [--n N] [--phi PHI] [--eps EPS] [--repeats K] [--collisions-per-particle C]\n       edmd-bench --matrix [--max-n N]");
+        println!("usage: edmd-bench [--d 2|3] [--n N] [--phi PHI] [--eps EPS] [--repeats K] [--collisions-per-particle C] [--melt-tau TAU] [--json]\n       edmd-bench --matrix [--max-n N]\n\n  --repeats K                  timed runs per case; the median is reported (default 3)\n  --collisions-per-particle C  length of each timed run (default: 5e6/N, within [2, 200])\n  --melt-tau TAU               elastic equilibration before timing, in collisions per particle (default 5)\n  --json                       print one JSON object instead of the text lines");
         return Ok(());
     }
     let repeats: usize = arg(&args, "--repeats", 3)?;
     let per: f64 = arg(&args, "--collisions-per-particle", 0.0)?;
     let per = (per > 0.0).then_some(per);
+    let melt_tau: f64 = arg(&args, "--melt-tau", 5.0)?;
+    if !(melt_tau >= 0.0) {
+        return Err(format!("invalid --melt-tau = {melt_tau}: must be >= 0"));
+    }
     if args.iter().any(|a| a == "--matrix") {
         let max_n: usize = arg(&args, "--max-n", 1_000_000)?;
         println!(
@@ -146,7 +163,7 @@ fn real_main() -> Result<(), String> {
                         phi,
                         eps: 1.0,
                     };
-                    let o = run_case(&case, repeats, per)?;
+                    let o = run_case(&case, repeats, per, melt_tau)?;
                     println!(
                         "{d:>2} {n:>8} {phi:>5} {:>5} {:>14.0} {:>7.1}% {:>10.1}",
                         1.0,
@@ -165,7 +182,23 @@ fn real_main() -> Result<(), String> {
         phi: arg(&args, "--phi", 0.3)?,
         eps: arg(&args, "--eps", 1.0)?,
     };
-    let o = run_case(&case, repeats, per)?;
+    let o = run_case(&case, repeats, per, melt_tau)?;
+    if args.iter().any(|a| a == "--json") {
+        println!(
+            "{{\"d\":{},\"n\":{},\"phi\":{},\"eps\":{},\"repeats\":{},\"collisions\":{},\"seconds\":{:.4},\"collisions_per_s\":{:.0},\"spread\":{:.4},\"bytes_per_particle\":{:.1}}}",
+            case.d,
+            case.n,
+            case.phi,
+            case.eps,
+            repeats,
+            o.collisions,
+            o.secs,
+            o.median,
+            o.spread,
+            o.bytes_per_particle
+        );
+        return Ok(());
+    }
     println!(
         "D={} N={} phi={} eps={} repeats={} spread={:.1}%",
         case.d,

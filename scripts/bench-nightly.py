@@ -1,0 +1,193 @@
+#!/usr/bin/env python3
+"""Nightly throughput benchmark of the engine (`make bench-nightly`).
+
+Runs a fixed matrix of cases with the release `edmd-bench` binary, one process per case (so peak memory
+is per case): D in {2, 3}; N in {1e3, 1e4, 1e5, 1e6}; phi in {0.05, 0.3, 0.7} (2D) or {0.05, 0.3, 0.5}
+(3D); elastic and eps = 0.9; periodic box; each case equilibrated elastically for 2 collisions per
+particle and timed three times (median and spread of collisions/s).
+
+Appends one JSON line per case to the history file (commit, date, machine, CPU model, collisions/s
+median and spread, peak heap bytes per particle), prints a table, and flags every case that is more
+than 10 % slower than the previous entry of the same case on the same machine. Exits 1 when a case
+is flagged (unless --no-fail), 2 on usage errors.
+
+    scripts/bench-nightly.py [--history benches/history.jsonl] [--only D=2,N=10000] [--threshold 0.10]
+"""
+
+from __future__ import annotations
+
+import argparse
+import datetime as dt
+import json
+import os
+import platform
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+NS = [1_000, 10_000, 100_000, 1_000_000]
+PHIS = {2: [0.05, 0.3, 0.7], 3: [0.05, 0.3, 0.5]}
+EPSS = [1.0, 0.9]
+MELT_TAU = 2.0
+REPEATS = 3
+
+
+def matrix() -> list[dict]:
+    return [
+        {"d": d, "n": n, "phi": phi, "eps": eps}
+        for d in (2, 3)
+        for n in NS
+        for phi in PHIS[d]
+        for eps in EPSS
+    ]
+
+
+def per_particle(n: int) -> float:
+    """Collisions per particle of one timed repeat: about 1.5e6 collisions, within [1, 500]."""
+    return min(500.0, max(1.0, 1.5e6 / n))
+
+
+def cpu_model() -> str:
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                return line.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    return platform.processor() or platform.machine()
+
+
+def git(*args: str) -> str:
+    try:
+        return subprocess.run(
+            ["git", *args], cwd=ROOT, capture_output=True, text=True, check=True
+        ).stdout.strip()
+    except (OSError, subprocess.CalledProcessError):
+        return ""
+
+
+def commit_id() -> str:
+    head = git("rev-parse", "--short=12", "HEAD") or "unknown"
+    # A build from a modified tree is not the commit: mark it, so history never confuses the two.
+    dirty = git("status", "--porcelain", "--untracked-files=no", "--", "crates", "src", "Cargo.toml", "Cargo.lock")
+    return head + ("-dirty" if dirty else "")
+
+
+def key(row: dict) -> tuple:
+    return (row["machine"], row["d"], row["n"], row["phi"], row["eps"])
+
+
+def parse_only(text: str | None) -> dict:
+    if not text:
+        return {}
+    out = {}
+    for part in text.split(","):
+        name, _, value = part.partition("=")
+        name = name.strip().lower()
+        if name not in ("d", "n", "phi", "eps") or not value:
+            raise SystemExit(f"error: invalid --only item {part!r}: expected D=, N=, PHI= or EPS= with a value")
+        try:
+            out[name] = float(value)
+        except ValueError:
+            raise SystemExit(f"error: invalid --only value {part!r}: not a number") from None
+    return out
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--history", default=str(ROOT / "benches" / "history.jsonl"), help="JSON-lines history file (appended)")
+    ap.add_argument("--bench", default=str(ROOT / "target" / "release" / "edmd-bench"), help="edmd-bench binary")
+    ap.add_argument("--machine", default=os.environ.get("EDMD_BENCH_MACHINE"), help="machine name (default: CPU model and core count; env EDMD_BENCH_MACHINE)")
+    ap.add_argument("--only", help="run the matching cases only, e.g. D=2,N=10000")
+    ap.add_argument("--threshold", type=float, default=0.10, help="flag cases slower than the previous entry by more than this fraction (default 0.10)")
+    ap.add_argument("--no-fail", action="store_true", help="exit 0 even when cases are flagged")
+    ap.add_argument("--no-record", action="store_true", help="do not append to the history file")
+    args = ap.parse_args()
+    if not 0 < args.threshold < 1:
+        print(f"error: invalid --threshold {args.threshold}: must lie in (0, 1)", file=sys.stderr)
+        return 2
+    bench = Path(args.bench)
+    if not bench.is_file():
+        print(f"error: benchmark binary {bench} not found: build it with `cargo build --release --bin edmd-bench`", file=sys.stderr)
+        return 2
+    only = parse_only(args.only)
+    cases = [c for c in matrix() if all(abs(c[k] - v) < 1e-12 for k, v in only.items())]
+    if not cases:
+        print(f"error: --only {args.only!r} matches no case of the matrix", file=sys.stderr)
+        return 2
+
+    history_path = Path(args.history)
+    history = []
+    if history_path.exists():
+        for i, line in enumerate(history_path.read_text().splitlines(), 1):
+            if line.strip():
+                try:
+                    history.append(json.loads(line))
+                except json.JSONDecodeError as e:
+                    print(f"error: {history_path}:{i}: not JSON ({e})", file=sys.stderr)
+                    return 2
+    cpu = cpu_model()
+    cores = os.cpu_count() or 1
+    machine = args.machine or f"{cpu} x{cores}"
+    run = {
+        "commit": commit_id(),
+        "date": dt.datetime.now(dt.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ"),
+        "machine": machine,
+        "cpu": cpu,
+        "cores": cores,
+    }
+    previous = {}
+    for row in history:
+        previous[key(row)] = row  # the latest entry of each case wins
+
+    print(f"bench-nightly: commit {run['commit']}, {run['date']}, machine {machine!r}, {len(cases)} cases")
+    header = f"{'D':>2} {'N':>8} {'phi':>5} {'eps':>4} {'collisions/s':>13} {'spread':>7} {'B/N':>6} {'previous':>13} {'change':>7}"
+    print(header)
+    rows, flagged = [], []
+    start = time.monotonic()
+    for c in cases:
+        cmd = [
+            str(bench), "--json", "--d", str(c["d"]), "--n", str(c["n"]), "--phi", str(c["phi"]),
+            "--eps", str(c["eps"]), "--repeats", str(REPEATS),
+            "--collisions-per-particle", str(per_particle(c["n"])), "--melt-tau", str(MELT_TAU),
+        ]
+        p = subprocess.run(cmd, capture_output=True, text=True)
+        if p.returncode != 0:
+            print(f"error: case {c} failed: {p.stderr.strip() or p.stdout.strip()}", file=sys.stderr)
+            return 2
+        out = json.loads(p.stdout.strip().splitlines()[-1])
+        row = {**run, **c, **{k: out[k] for k in ("collisions_per_s", "spread", "bytes_per_particle", "repeats", "collisions", "seconds")}}
+        rows.append(row)
+        prev = previous.get(key(row))
+        change, mark = "", ""
+        if prev:
+            ratio = row["collisions_per_s"] / prev["collisions_per_s"]
+            change = f"{100 * (ratio - 1):+6.1f}%"
+            if ratio < 1 - args.threshold:
+                mark = f"  SLOWER (previous {prev['commit']}, {prev['date']})"
+                flagged.append((row, prev, ratio))
+        prev_rate = f"{prev['collisions_per_s']:13.0f}" if prev else f"{'-':>13}"
+        print(
+            f"{c['d']:>2} {c['n']:>8} {c['phi']:>5} {c['eps']:>4} {row['collisions_per_s']:13.0f} "
+            f"{100 * row['spread']:6.1f}% {row['bytes_per_particle']:6.0f} {prev_rate} {change:>7}{mark}",
+            flush=True,
+        )
+    if not args.no_record:
+        history_path.parent.mkdir(parents=True, exist_ok=True)
+        with history_path.open("a") as f:
+            for row in rows:
+                f.write(json.dumps(row, sort_keys=True) + "\n")
+    print(f"bench-nightly: {len(rows)} cases in {time.monotonic() - start:.0f} s; history: {history_path}{' (not recorded)' if args.no_record else ''}")
+    if flagged:
+        print(f"bench-nightly: {len(flagged)} case(s) more than {100 * args.threshold:.0f} % slower than the previous entry on this machine:")
+        for row, prev, ratio in flagged:
+            print(f"  D={row['d']} N={row['n']} phi={row['phi']} eps={row['eps']}: {row['collisions_per_s']:.0f} vs {prev['collisions_per_s']:.0f} collisions/s ({100 * (ratio - 1):+.1f} %) at {prev['commit']}")
+        return 0 if args.no_fail else 1
+    print("bench-nightly: no case slower than the threshold")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,190 @@
+//! Run time against error (`make bench-accuracy`): prints one JSON object per measurement.
+//!
+//! ```text
+//! edmd-accuracy remedies    # collapse remedies at eps = 0.7 and 0.9: cost per tau, cooling-rate error
+//! edmd-accuracy statistics  # errors of the cooling rate and of chi against theory vs N x seeds x tau
+//! ```
+//! Cooling rates are least-squares slopes of ln T(τ) over τ ∈ [5, τ_end] in periodic boxes of half the
+//! shear-critical size L⊥ (homogeneous cooling), averaged over seeds; `scripts/bench-accuracy.py`
+//! turns the lines into a table and a figure.
+
+use std::time::Instant;
+
+use edmd::{
+    CollisionRule, ConstantRestitution, Elastic, InitParams, Periodic, RandomRotation, Schedule,
+    Stop, TcModel, ThresholdRestitution, Vector,
+};
+use edmd_core::theory::{chi, chi_from_frequency, critical_sizes, haff_rate, Transport};
+
+/// Slopes −d ln T/dτ on [5, tau_end] of `seeds` runs, their mean, standard error and wall seconds.
+fn cooling<R: CollisionRule + Copy>(
+    rule: R,
+    n: usize,
+    side: f64,
+    seeds: u64,
+    tau_end: f64,
+) -> (f64, f64, f64, u64) {
+    let mut slopes = Vec::new();
+    let mut secs = 0.0;
+    let mut collisions = 0;
+    for seed in 0..seeds {
+        let mut p = InitParams::<2>::in_box(n, Vector::<2>::repeat(side));
+        p.seed = 5000 + seed;
+        p.melt_tau = Some(5.0);
+        let mut sim = p.build::<Periodic, _>(rule).unwrap();
+        let start = Instant::now();
+        let (mut xs, mut ys) = (Vec::new(), Vec::new());
+        sim.run_sampled(Stop::Tau(tau_end), &Schedule::every(0.5), |s| {
+            if s.tau() >= 5.0 {
+                xs.push(s.tau());
+                ys.push(s.ln_temperature());
+            }
+        });
+        secs += start.elapsed().as_secs_f64();
+        collisions += sim.counters().pair_collisions;
+        let mx = xs.iter().sum::<f64>() / xs.len() as f64;
+        let my = ys.iter().sum::<f64>() / ys.len() as f64;
+        let sxy: f64 = xs.iter().zip(&ys).map(|(x, y)| (x - mx) * (y - my)).sum();
+        let sxx: f64 = xs.iter().map(|x| (x - mx).powi(2)).sum();
+        slopes.push(-sxy / sxx);
+    }
+    let m = slopes.iter().sum::<f64>() / slopes.len() as f64;
+    let se = if slopes.len() > 1 {
+        (slopes.iter().map(|s| (s - m).powi(2)).sum::<f64>()
+            / (slopes.len() as f64 - 1.0)
+            / slopes.len() as f64)
+            .sqrt()
+    } else {
+        f64::NAN
+    };
+    (m, se, secs, collisions)
+}
+
+/// Homogeneous box for (ε, φ): side L⊥/2 and its particle count, at most `cap`.
+fn homogeneous_box(eps: f64, phi: f64, cap: usize) -> (usize, f64) {
+    let (l_perp, _) = critical_sizes(2, eps, phi, 1.0, Transport::Enskog);
+    let mut side = 0.5 * l_perp;
+    let mut n = (phi * side * side / (std::f64::consts::PI / 4.0)) as usize;
+    if n > cap {
+        n = cap;
+    }
+    side = (n as f64 * std::f64::consts::PI / 4.0 / phi).sqrt();
+    (n, side)
+}
+
+fn remedies() {
+    let phi = 0.05;
+    let tau_end = 40.0;
+    for eps in [0.7, 0.9] {
+        let (n, side) = homogeneous_box(eps, phi, 2000);
+        let seeds = (64_000 / n).clamp(8, 400) as u64;
+        let c = ConstantRestitution::new(eps).unwrap();
+        let theory = haff_rate(2, eps);
+        // Mean free time at T0 = 1 (Enskog): the unit of t_c.
+        let t_mf = 1.0 / edmd_core::theory::collision_frequency(2, phi, chi(2, phi), 1.0, 1.0, 1.0);
+        let (k0, se0, s0, c0) = cooling(c, n, side, seeds, tau_end);
+        let cost0 = s0 / c0 as f64;
+        let line = |remedy: &str, param: f64, unit: &str, r: (f64, f64, f64, u64)| {
+            let (k, se, secs, coll) = r;
+            println!(
+                "{{\"study\":\"remedy\",\"eps\":{eps},\"phi\":{phi},\"n\":{n},\"seeds\":{seeds},\"tau_end\":{tau_end},\"remedy\":\"{remedy}\",\"param\":{param},\"unit\":\"{unit}\",\"k\":{k:.6},\"k_se\":{se:.6},\"k_exact\":{k0:.6},\"k_exact_se\":{se0:.6},\"k_theory\":{theory:.6},\"error_vs_exact\":{:.6},\"error_vs_theory\":{:.6},\"seconds\":{secs:.3},\"us_per_collision\":{:.4},\"cost_ratio\":{:.4}}}",
+                k / k0 - 1.0,
+                k / theory - 1.0,
+                1e6 * secs / coll as f64,
+                secs / coll as f64 / cost0
+            );
+        };
+        line("none", 0.0, "-", (k0, se0, s0, c0));
+        for f in [1e-5, 1e-4, 1e-3, 1e-2] {
+            let r = TcModel::new(c, f * t_mf).unwrap();
+            line("tc", f, "mean free time at T0", cooling(r, n, side, seeds, tau_end));
+        }
+        for d in [1e-5, 1e-4, 1e-3, 1e-2] {
+            let r = ThresholdRestitution::new(eps, 1.0, d).unwrap();
+            line("threshold", d, "sqrt(T0/m)", cooling(r, n, side, seeds, tau_end));
+        }
+        for deg in [1.0, 2.0, 5.0, 10.0] {
+            let r = RandomRotation::new(c, f64::to_radians(deg)).unwrap();
+            line("rotation", deg, "degrees", cooling(r, n, side, seeds, tau_end));
+        }
+        for d in [1e-4, 1e-3] {
+            let r = RandomRotation::new(
+                ThresholdRestitution::new(eps, 1.0, d).unwrap(),
+                f64::to_radians(5.0),
+            )
+            .unwrap();
+            line("threshold+rotation 5deg", d, "sqrt(T0/m)", cooling(r, n, side, seeds, tau_end));
+        }
+    }
+}
+
+fn statistics() {
+    // Cooling rate: eps = 0.9, phi = 0.05, homogeneous box; seeds and window length.
+    let (eps, phi) = (0.9, 0.05);
+    let theory = haff_rate(2, eps);
+    for n_cap in [250usize, 1000] {
+        let (n, side) = homogeneous_box(eps, phi, n_cap);
+        let c = ConstantRestitution::new(eps).unwrap();
+        for seeds in [4u64, 16, 64] {
+            for tau_end in [20.0, 40.0] {
+                let (k, se, secs, coll) = cooling(c, n, side, seeds, tau_end);
+                println!(
+                    "{{\"study\":\"haff\",\"eps\":{eps},\"phi\":{phi},\"n\":{n},\"seeds\":{seeds},\"tau_end\":{tau_end},\"k\":{k:.6},\"k_se\":{se:.6},\"k_theory\":{theory:.6},\"error\":{:.6},\"rel_se\":{:.6},\"seconds\":{secs:.3},\"collisions\":{coll}}}",
+                    k / theory - 1.0,
+                    se / theory
+                );
+            }
+        }
+    }
+    // χ from the collision rate, elastic, φ = 0.25, against Luding's χ.
+    let phi = 0.25;
+    let reference = chi(2, phi);
+    for n in [500usize, 2000, 8000] {
+        for tau in [50.0, 200.0, 800.0] {
+            let seeds = 3u64;
+            let mut chis = Vec::new();
+            let mut secs = 0.0;
+            for seed in 0..seeds {
+                let mut p = InitParams::<2>::with_packing(n, phi).unwrap();
+                p.seed = 7000 + seed;
+                p.melt_tau = Some(20.0);
+                let mut sim = p.build::<Periodic, _>(Elastic).unwrap();
+                let start = Instant::now();
+                let meter = edmd::VirialMeter::start(&sim);
+                sim.run(Stop::Tau(tau));
+                secs += start.elapsed().as_secs_f64();
+                let r = meter.read(&sim);
+                chis.push(chi_from_frequency(2, phi, r.nu, 1.0, sim.temperature(), 1.0));
+            }
+            let m = chis.iter().sum::<f64>() / chis.len() as f64;
+            let se = (chis.iter().map(|c| (c - m).powi(2)).sum::<f64>()
+                / (chis.len() as f64 - 1.0)
+                / chis.len() as f64)
+                .sqrt();
+            println!(
+                "{{\"study\":\"chi\",\"phi\":{phi},\"n\":{n},\"seeds\":{seeds},\"tau\":{tau},\"chi\":{m:.6},\"chi_se\":{se:.6},\"chi_luding\":{reference:.6},\"error\":{:.6},\"rel_se\":{:.6},\"seconds\":{secs:.3},\"collisions\":{}}}",
+                m / reference - 1.0,
+                se / reference,
+                (n as f64 * tau) as u64 * seeds
+            );
+        }
+    }
+}
+
+fn main() {
+    let what: Vec<String> = std::env::args().skip(1).collect();
+    if what.is_empty() || what.iter().any(|a| a == "-h" || a == "--help") {
+        println!("usage: edmd-accuracy remedies|statistics ...");
+        return;
+    }
+    for w in &what {
+        match w.as_str() {
+            "remedies" => remedies(),
+            "statistics" => statistics(),
+            other => {
+                eprintln!("error: unknown study {other:?}: expected remedies or statistics");
+                std::process::exit(2);
+            }
+        }
+    }
+}

@@ -1,0 +1,204 @@
+#!/bin/bash
+# End-to-end test of sweeps on a real Slurm (`make test-slurm`, run by CI).
+#
+# Stands up a single-node Slurm on this machine from Debian's packages (munge, slurmctld, slurmd on
+# localhost; generated slurm.conf; proctrack/linuxproc, task/none; no systemd), then:
+#   1. submits tests/slurm/spec.json as a 4-task array with sweeps/slurm/submit.sh, waits, and checks that
+#      the merged output equals a local `edmd run` of the same spec (every dataset and attribute);
+#   2. submits it again into a fresh directory, cancels one running array task with scancel, lets the
+#      rest finish, reruns the same submit command, and checks again: no replica lost, none duplicated,
+#      the output equal to the local run.
+# Daemons are started and stopped by PID. Skipped (exit 0, with a message) only where the packages are
+# missing and cannot be installed.
+set -euo pipefail
+
+root=$(cd "$(dirname "$0")/../.." && pwd)
+EDMD=${EDMD:-$root/target/release/edmd}
+PY=${PY:-$root/.venv/bin/python}
+spec=$root/tests/slurm/spec.json
+start_time=$SECONDS
+
+say() { echo "test-slurm: $*"; }
+
+# --- packages --------------------------------------------------------------------------------------
+need=""
+for p in slurmctld slurmd slurm-client munge; do dpkg -s "$p" >/dev/null 2>&1 || need="$need $p"; done
+if [ -n "$need" ]; then
+    say "installing:$need"
+    if [ "$(id -u)" = 0 ]; then
+        (apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends $need) >/dev/null 2>&1 || true
+    elif command -v sudo >/dev/null && sudo -n true 2>/dev/null; then
+        (sudo apt-get update -qq && sudo DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends $need) >/dev/null 2>&1 || true
+    fi
+    for p in $need; do
+        if ! dpkg -s "$p" >/dev/null 2>&1; then
+            say "SKIPPED: Debian package $p is missing and this machine cannot install packages (need root or sudo and apt)"
+            exit 0
+        fi
+    done
+fi
+if [ "$(id -u)" != 0 ]; then
+    # slurmd must run as root to start jobs as their user; without root there is no real Slurm here.
+    if command -v sudo >/dev/null && sudo -n true 2>/dev/null; then
+        exec sudo -E env "PATH=$PATH" bash "$0" "$@"
+    fi
+    say "SKIPPED: slurmd needs root (or passwordless sudo)"
+    exit 0
+fi
+[ -x "$EDMD" ] || { echo "test-slurm: error: $EDMD not built (make cli)" >&2; exit 1; }
+[ -x "$PY" ] || { echo "test-slurm: error: $PY missing (make deps)" >&2; exit 1; }
+
+# --- a private single-node cluster ------------------------------------------------------------------
+work=$(mktemp -d /tmp/edmd-slurm.XXXXXX)
+chmod 755 "$work"
+mkdir -p "$work/munge" "$work/spool" "$work/state" "$work/log" "$work/out"
+chmod 700 "$work/munge"
+pids=()
+cleanup() {
+    local rc=$?
+    for pid in "${pids[@]}"; do kill "$pid" 2>/dev/null || true; done
+    for pid in "${pids[@]}"; do
+        for _ in $(seq 50); do kill -0 "$pid" 2>/dev/null || break; sleep 0.1; done
+        kill -9 "$pid" 2>/dev/null || true
+    done
+    if [ $rc -ne 0 ]; then
+        say "FAILED; daemon logs:"
+        tail -n 30 "$work"/log/*.log 2>/dev/null || true
+    fi
+    [ -n "${KEEP:-}" ] || rm -rf "$work"
+    exit $rc
+}
+trap cleanup EXIT
+
+mungekey --create --keyfile "$work/munge/munge.key" --force >/dev/null 2>&1 \
+    || dd if=/dev/urandom of="$work/munge/munge.key" bs=1024 count=1 status=none
+chmod 400 "$work/munge/munge.key"
+sock=$work/munge/munge.sock
+munged --foreground --force --socket="$sock" --key-file="$work/munge/munge.key" \
+    --pid-file="$work/munge/munged.pid" --log-file="$work/log/munged.log" \
+    --seed-file="$work/munge/munged.seed" >/dev/null 2>&1 &
+pids+=($!)
+for _ in $(seq 50); do [ -S "$sock" ] && break; sleep 0.1; done
+[ -S "$sock" ] || { echo "test-slurm: error: munged did not start" >&2; exit 1; }
+
+host=$(hostname -s)
+cpus=$(nproc)
+port0=$((20000 + RANDOM % 20000))
+export SLURM_CONF=$work/slurm.conf
+cat > "$SLURM_CONF" <<EOF
+ClusterName=edmdtest
+SlurmctldHost=$host(127.0.0.1)
+SlurmctldPort=$port0
+SlurmdPort=$((port0 + 1))
+SlurmUser=root
+SlurmdUser=root
+AuthType=auth/munge
+AuthInfo=socket=$sock
+CredType=cred/munge
+ProctrackType=proctrack/linuxproc
+TaskPlugin=task/none
+JobAcctGatherType=jobacct_gather/none
+AccountingStorageType=accounting_storage/none
+SchedulerType=sched/backfill
+SelectType=select/cons_tres
+SelectTypeParameters=CR_CPU
+MpiDefault=none
+ReturnToService=2
+StateSaveLocation=$work/state
+SlurmdSpoolDir=$work/spool
+SlurmctldPidFile=$work/slurmctld.pid
+SlurmdPidFile=$work/slurmd.pid
+SlurmctldLogFile=$work/log/slurmctld.log
+SlurmdLogFile=$work/log/slurmd.log
+SlurmctldTimeout=30
+SlurmdTimeout=30
+InactiveLimit=0
+KillWait=2
+MinJobAge=300
+NodeName=$host NodeAddr=127.0.0.1 CPUs=$cpus State=UNKNOWN
+PartitionName=test Nodes=$host Default=YES MaxTime=INFINITE State=UP OverSubscribe=NO
+EOF
+slurmctld -D -i -f "$SLURM_CONF" >"$work/log/slurmctld.out" 2>&1 &
+pids+=($!)
+slurmd -D -f "$SLURM_CONF" >"$work/log/slurmd.out" 2>&1 &
+pids+=($!)
+for _ in $(seq 100); do
+    state=$(sinfo -h -N -o %t 2>/dev/null | head -1 || true)
+    [ "$state" = idle ] && break
+    sleep 0.2
+done
+[ "$state" = idle ] || { echo "test-slurm: error: node not idle (state '$state')" >&2; exit 1; }
+say "single-node Slurm up ($(sinfo -V), node $host, $cpus CPUs) after $((SECONDS - start_time)) s"
+
+# Waits until no job of ours is pending or running.
+wait_idle() {
+    for _ in $(seq 1200); do
+        [ -z "$(squeue -h -o %i 2>/dev/null)" ] && return 0
+        sleep 0.25
+    done
+    echo "test-slurm: error: jobs still queued after 300 s" >&2
+    squeue >&2
+    return 1
+}
+
+# The reference: the same spec run locally.
+"$EDMD" run "$spec" -o "$work/local" --quiet >/dev/null
+replicas=$(ls "$work/local/replicas" | grep -c '\.h5$')
+
+check_equal() {
+    local dir=$1
+    local files parts
+    files=$(ls "$dir/replicas" | grep -c '\.h5$' || true)
+    parts=$(ls "$dir/replicas" | grep -c '\.part$' || true)
+    [ "$files" = "$replicas" ] || { echo "test-slurm: error: $dir has $files replica files, expected $replicas" >&2; return 1; }
+    [ "$parts" = 0 ] || { echo "test-slurm: error: $dir has $parts partial files" >&2; return 1; }
+    [ -f "$dir/sweep.h5" ] || { echo "test-slurm: error: $dir has no index (merge did not run)" >&2; return 1; }
+    "$PY" "$root/scripts/compare-outputs.py" "$work/local" "$dir"
+}
+
+submit() {
+    # The command a user runs: 4 array tasks of one CPU each, output in $1.
+    EDMD="$EDMD" "$root/sweeps/slurm/submit.sh" "$spec" "$1" 4 \
+        --cpus-per-task=1 --output="$1/slurm-%A_%a.log" --chdir="$work"
+}
+
+# --- 1. a 4-task array sweep and its merge ------------------------------------------------------------
+t0=$SECONDS
+submit "$work/out/a"
+wait_idle
+check_equal "$work/out/a"
+say "4-task array + merge equal to the local run ($replicas replicas) in $((SECONDS - t0)) s"
+
+# --- 2. scancel one running task, rerun the submit command -------------------------------------------
+t0=$SECONDS
+line=$(submit "$work/out/b")
+echo "$line"
+array=$(echo "$line" | sed -n 's/^submitted array job \([0-9]*\).*/\1/p')
+[ -n "$array" ] || { echo "test-slurm: error: no job id in '$line'" >&2; exit 1; }
+victim=""
+for _ in $(seq 400); do
+    victim=$(squeue -h -j "$array" -t RUNNING -o %i 2>/dev/null | grep '_' | head -1 || true)
+    [ -n "$victim" ] && break
+    sleep 0.05
+done
+[ -n "$victim" ] || { echo "test-slurm: error: no array task ever ran" >&2; exit 1; }
+sleep 1
+scancel "$victim"
+say "cancelled running task $victim"
+wait_idle
+done_files=$(ls "$work/out/b/replicas" 2>/dev/null | grep -c '\.h5$' || true)
+[ "$done_files" -lt "$replicas" ] || { echo "test-slurm: error: the cancelled task's replicas all finished anyway ($done_files of $replicas); the spec is too short for this test" >&2; exit 1; }
+merge_id=$(echo "$line" | sed -n 's/.*merge job \([0-9]*\).*/\1/p')
+grep -q "replica(s) missing" "$work/out/b"/slurm-"$merge_id"_*.log \
+    || { echo "test-slurm: error: the merge job did not report the missing replicas" >&2; exit 1; }
+say "after the cancel: $done_files of $replicas replicas finished; the merge job reported the missing ones"
+# Finished files must survive the rerun untouched (same inode and modification time): not rerun.
+before=$(cd "$work/out/b/replicas" && stat -c '%n %i %Y.%y' *.h5 | sort)
+submit "$work/out/b" >/dev/null
+wait_idle
+check_equal "$work/out/b"
+after=$(cd "$work/out/b/replicas" && stat -c '%n %i %Y.%y' *.h5 | sort)
+kept=$(comm -12 <(echo "$before") <(echo "$after") | wc -l)
+[ "$kept" = "$done_files" ] || { echo "test-slurm: error: the rerun rewrote finished replicas ($kept of $done_files untouched)" >&2; exit 1; }
+say "rerun of the submit command completed the sweep: $replicas replicas, the $done_files finished ones untouched, none lost or duplicated, equal to the local run, in $((SECONDS - t0)) s"
+say "PASSED in $((SECONDS - start_time)) s"
