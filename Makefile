@@ -81,7 +81,7 @@ endif
 # Stress tests at full size (10^8 elastic collisions, T/T0 < 1e-1000, N = 10^7 disks, 2000 fuzz
 # cases); `cargo test` runs short versions. Figures: docs/benchmarks.md.
 stress:
-	EDMD_STRESS=1 PROPTEST_CASES=2000 $(CARGO) test --release -p edmd-core --test stress --test fuzz -- --nocapture --test-threads 1
+	EDMD_STRESS=1 PROPTEST_CASES=2000 $(CARGO) test -p edmd-core --test stress --test fuzz -- --nocapture --test-threads 1
 
 # The nightly matrix (D, N, phi, eps): appends to benches/history.jsonl, prints a table and flags
 # cases > 10 % slower than the previous entry on this machine (exit 1). NIGHTLY_ARGS="--only D=2,N=10000".

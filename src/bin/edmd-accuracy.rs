@@ -97,15 +97,30 @@ fn remedies() {
         line("none", 0.0, "-", (k0, se0, s0, c0));
         for f in [1e-5, 1e-4, 1e-3, 1e-2] {
             let r = TcModel::new(c, f * t_mf).unwrap();
-            line("tc", f, "mean free time at T0", cooling(r, n, side, seeds, tau_end));
+            line(
+                "tc",
+                f,
+                "mean free time at T0",
+                cooling(r, n, side, seeds, tau_end),
+            );
         }
         for d in [1e-5, 1e-4, 1e-3, 1e-2] {
             let r = ThresholdRestitution::new(eps, 1.0, d).unwrap();
-            line("threshold", d, "sqrt(T0/m)", cooling(r, n, side, seeds, tau_end));
+            line(
+                "threshold",
+                d,
+                "sqrt(T0/m)",
+                cooling(r, n, side, seeds, tau_end),
+            );
         }
         for deg in [1.0, 2.0, 5.0, 10.0] {
             let r = RandomRotation::new(c, f64::to_radians(deg)).unwrap();
-            line("rotation", deg, "degrees", cooling(r, n, side, seeds, tau_end));
+            line(
+                "rotation",
+                deg,
+                "degrees",
+                cooling(r, n, side, seeds, tau_end),
+            );
         }
         for d in [1e-4, 1e-3] {
             let r = RandomRotation::new(
@@ -113,7 +128,12 @@ fn remedies() {
                 f64::to_radians(5.0),
             )
             .unwrap();
-            line("threshold+rotation 5deg", d, "sqrt(T0/m)", cooling(r, n, side, seeds, tau_end));
+            line(
+                "threshold+rotation 5deg",
+                d,
+                "sqrt(T0/m)",
+                cooling(r, n, side, seeds, tau_end),
+            );
         }
     }
 }
@@ -154,7 +174,14 @@ fn statistics() {
                 sim.run(Stop::Tau(tau));
                 secs += start.elapsed().as_secs_f64();
                 let r = meter.read(&sim);
-                chis.push(chi_from_frequency(2, phi, r.nu, 1.0, sim.temperature(), 1.0));
+                chis.push(chi_from_frequency(
+                    2,
+                    phi,
+                    r.nu,
+                    1.0,
+                    sim.temperature(),
+                    1.0,
+                ));
             }
             let m = chis.iter().sum::<f64>() / chis.len() as f64;
             let se = (chis.iter().map(|c| (c - m).powi(2)).sum::<f64>()
