@@ -12,7 +12,7 @@
 
 Writes OUT/accuracy.jsonl (every measurement), OUT/accuracy.md (tables) and OUT/accuracy.png.
 
-    scripts/bench-accuracy.py [-o bench-out/accuracy] [--skip-classification] [--threads 2]
+    scripts/bench-accuracy.py [-o bench-out/accuracy] [--studies remedies,statistics,classification] [--threads 2]
 """
 
 from __future__ import annotations
@@ -82,14 +82,15 @@ def table(rows: list[dict]) -> str:
     rem = [r for r in rows if r["study"] == "remedy"]
     if rem:
         out += ["## Collapse remedies", "",
-                "Periodic box of half the shear-critical size (homogeneous cooling), phi = 0.05; cooling rate",
-                "-d ln T/d tau fitted on tau in [5, 40], mean over seeds. Error against the exact-eps run",
-                "(same seeds) and against Haff's law k(eps); cost = wall time per collision over the exact run's.", "",
-                "| eps | remedy | parameter | k | error vs exact | error vs Haff | cost |",
-                "|---|---|---|---|---|---|---|"]
+                "Cooling rate -d ln T/d tau fitted on tau in [5, 40], mean over seeds, in two settings: a",
+                "homogeneous box (half the shear-critical size, phi = 0.05) and the McNamara-Young box",
+                "(N = 1024, phi = 0.25, 16 seeds). Error against the exact-eps run (same seeds) and against",
+                "Haff's law k(eps); cost = wall time per collision over the exact run's.", "",
+                "| setting | eps | N x seeds | remedy | parameter | k | error vs exact | error vs Haff | cost |",
+                "|---|---|---|---|---|---|---|---|---|"]
         for r in rem:
             par = "-" if r["remedy"] == "none" else f"{r['param']:g} {r['unit']}"
-            out.append(f"| {r['eps']} | {r['remedy']} | {par} | {r['k']:.4f} ± {r['k_se']:.4f} | {100 * r['error_vs_exact']:+.2f} % | {100 * r['error_vs_theory']:+.2f} % | {r['cost_ratio']:.2f} |")
+            out.append(f"| {r.get('setting', '')} | {r['eps']} | {r['n']} x {r['seeds']} | {r['remedy']} | {par} | {r['k']:.4f} ± {r['k_se']:.4f} | {100 * r['error_vs_exact']:+.2f} % | {100 * r['error_vs_theory']:+.2f} % | {r['cost_ratio']:.2f} |")
         out.append("")
     haff = [r for r in rows if r["study"] == "haff"]
     if haff:
@@ -125,12 +126,12 @@ def figure(rows: list[dict], path: Path) -> None:
     fig, axes = plt.subplots(1, 3, figsize=(15, 4.5))
     ax = axes[0]
     markers = {"tc": "o", "threshold": "s", "rotation": "^", "threshold+rotation 5deg": "D", "none": "*"}
-    for eps, color in ((0.7, "C3"), (0.9, "C0")):
+    for (setting, eps), color in ((("homogeneous", 0.7), "C3"), (("homogeneous", 0.9), "C0"), (("mcnamara-young", 0.7), "C1"), (("mcnamara-young", 0.9), "C2")):
         for name, m in markers.items():
-            rs = [r for r in rows if r["study"] == "remedy" and r["eps"] == eps and r["remedy"] == name]
+            rs = [r for r in rows if r["study"] == "remedy" and r.get("setting") == setting and r["eps"] == eps and r["remedy"] == name]
             if rs:
                 ax.scatter([r["cost_ratio"] for r in rs], [max(abs(r["error_vs_exact"]), 1e-5) for r in rs],
-                           marker=m, color=color, label=f"{name}, eps {eps}", s=40)
+                           marker=m, color=color, label=(f"{setting}, eps {eps} (colour)" if name == "none" else None) if color != "C3" else f"{name} (marker); {setting}, eps {eps}" if name == "none" else f"{name} (marker)", s=30)
     ax.set_yscale("log")
     ax.set_xlabel("cost per collision / exact-eps run")
     ax.set_ylabel("|cooling-rate error| vs exact eps")
@@ -170,7 +171,8 @@ def figure(rows: list[dict], path: Path) -> None:
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("-o", "--out", default=str(ROOT / "bench-out" / "accuracy"))
-    ap.add_argument("--skip-classification", action="store_true")
+    ap.add_argument("--studies", default="remedies,statistics,classification",
+                    help="comma-separated studies to run; rows of the others are kept from OUT/accuracy.jsonl")
     ap.add_argument("--threads", type=int, default=2, help="threads of the classification sweeps")
     args = ap.parse_args()
     out = Path(args.out)
@@ -181,13 +183,26 @@ def main() -> int:
         if not b.is_file():
             print(f"error: {b} not built (cargo build --release --workspace)", file=sys.stderr)
             return 2
+    studies = [s.strip() for s in args.studies.split(",") if s.strip()]
+    bad = [s for s in studies if s not in ("remedies", "statistics", "classification")]
+    if bad:
+        print(f"error: invalid --studies item(s) {bad}: expected remedies, statistics, classification", file=sys.stderr)
+        return 2
+    kinds = {"remedies": ("remedy",), "statistics": ("haff", "chi"), "classification": ("classification",)}
+    rerun = {k for s in studies for k in kinds[s]}
     rows = []
+    old = out / "accuracy.jsonl"
+    if old.exists():
+        rows = [r for r in map(json.loads, old.read_text().splitlines()) if r["study"] not in rerun]
     for study in ("remedies", "statistics"):
-        t0 = time.monotonic()
-        rows += run_lines([str(acc), study])
-        print(f"  {study}: {time.monotonic() - t0:.0f} s", flush=True)
-    if not args.skip_classification:
+        if study in studies:
+            t0 = time.monotonic()
+            rows += run_lines([str(acc), study])
+            print(f"  {study}: {time.monotonic() - t0:.0f} s", flush=True)
+    if "classification" in studies:
         rows += classification(edmd, args.threads)
+    order = {"remedy": 0, "haff": 1, "chi": 2, "classification": 3}
+    rows.sort(key=lambda r: order[r["study"]])
     (out / "accuracy.jsonl").write_text("".join(json.dumps(r) + "\n" for r in rows))
     text = table(rows)
     (out / "accuracy.md").write_text(text + "\n")
