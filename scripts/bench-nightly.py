@@ -9,10 +9,12 @@ collision per particle): median and spread of collisions/s. Runs in about 7 minu
 
 Appends one JSON line per case to the history file (commit, date, machine, CPU model, collisions/s
 median and spread, peak heap bytes per particle), prints a table, and flags every case that is more
-than 10 % slower than the previous entry of the same case on the same machine. Exits 1 when a case
-is flagged (unless --no-fail), 2 on usage errors.
+than 10 % slower than the previous entry of the same case on the same machine. A case that comes out
+slower is measured again first (--confirm, default once) and the fastest measurement is kept, so that
+a neighbour on a shared machine slowing one measurement is not taken for a regression, while a slower
+build, slow every time, is flagged. Exits 1 when a case is flagged (unless --no-fail), 2 on usage errors.
 
-    scripts/bench-nightly.py [--history benches/history.jsonl] [--only D=2,N=10000] [--threshold 0.10]
+    scripts/bench-nightly.py [--history benches/history.jsonl] [--only D=2,N=10000] [--threshold 0.10] [--confirm 1]
 """
 
 from __future__ import annotations
@@ -101,6 +103,22 @@ def parse_only(text: str | None) -> dict:
     return out
 
 
+def measure(bench: Path, c: dict, run: dict) -> dict | None:
+    """One run of edmd-bench on case c: a history row, or None (after an error message) on failure."""
+    cmd = [
+        str(bench), "--json", "--d", str(c["d"]), "--n", str(c["n"]), "--phi", str(c["phi"]),
+        "--eps", str(c["eps"]), "--repeats", str(REPEATS),
+        "--collisions-per-particle", str(per_particle(c["n"])), "--melt-tau", str(melt_tau(c["n"])),
+    ]
+    p = subprocess.run(cmd, capture_output=True, text=True)
+    if p.returncode != 0:
+        print(f"error: case {c} failed: {p.stderr.strip() or p.stdout.strip()}", file=sys.stderr)
+        return None
+    out = json.loads(p.stdout.strip().splitlines()[-1])
+    keep = ("collisions_per_s", "spread", "bytes_per_particle", "repeats", "collisions", "seconds")
+    return {**run, **c, **{k: out[k] for k in keep}}
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--history", default=str(ROOT / "benches" / "history.jsonl"), help="JSON-lines history file (appended)")
@@ -108,11 +126,15 @@ def main() -> int:
     ap.add_argument("--machine", default=os.environ.get("EDMD_BENCH_MACHINE"), help="machine name (default: CPU model and core count; env EDMD_BENCH_MACHINE)")
     ap.add_argument("--only", help="run the matching cases only, e.g. D=2,N=10000")
     ap.add_argument("--threshold", type=float, default=0.10, help="flag cases slower than the previous entry by more than this fraction (default 0.10)")
+    ap.add_argument("--confirm", type=int, default=1, help="measure a slow case up to this many more times before flagging it (default 1)")
     ap.add_argument("--no-fail", action="store_true", help="exit 0 even when cases are flagged")
     ap.add_argument("--no-record", action="store_true", help="do not append to the history file")
     args = ap.parse_args()
     if not 0 < args.threshold < 1:
         print(f"error: invalid --threshold {args.threshold}: must lie in (0, 1)", file=sys.stderr)
+        return 2
+    if args.confirm < 0:
+        print(f"error: invalid --confirm {args.confirm}: must be >= 0", file=sys.stderr)
         return 2
     bench = Path(args.bench)
     if not bench.is_file():
@@ -154,26 +176,33 @@ def main() -> int:
     rows, flagged = [], []
     start = time.monotonic()
     for c in cases:
-        cmd = [
-            str(bench), "--json", "--d", str(c["d"]), "--n", str(c["n"]), "--phi", str(c["phi"]),
-            "--eps", str(c["eps"]), "--repeats", str(REPEATS),
-            "--collisions-per-particle", str(per_particle(c["n"])), "--melt-tau", str(melt_tau(c["n"])),
-        ]
-        p = subprocess.run(cmd, capture_output=True, text=True)
-        if p.returncode != 0:
-            print(f"error: case {c} failed: {p.stderr.strip() or p.stdout.strip()}", file=sys.stderr)
+        row = measure(bench, c, run)
+        if row is None:
             return 2
-        out = json.loads(p.stdout.strip().splitlines()[-1])
-        row = {**run, **c, **{k: out[k] for k in ("collisions_per_s", "spread", "bytes_per_particle", "repeats", "collisions", "seconds")}}
-        rows.append(row)
         prev = previous.get(key(row))
         change, mark = "", ""
         if prev:
             ratio = row["collisions_per_s"] / prev["collisions_per_s"]
+            # A slow case is measured again (up to --confirm times) before it is flagged: a neighbour
+            # on a shared machine can slow one measurement by more than the threshold, a slower build
+            # slows every one. The fastest measurement is kept.
+            attempts = 0
+            while ratio < 1 - args.threshold and attempts < args.confirm:
+                attempts += 1
+                again = measure(bench, c, run)
+                if again is None:
+                    return 2
+                if again["collisions_per_s"] > row["collisions_per_s"]:
+                    row = again
+                ratio = row["collisions_per_s"] / prev["collisions_per_s"]
+            row["remeasured"] = attempts
             change = f"{100 * (ratio - 1):+6.1f}%"
             if ratio < 1 - args.threshold:
-                mark = f"  SLOWER (previous {prev['commit']}, {prev['date']})"
+                mark = f"  SLOWER (previous {prev['commit']}, {prev['date']}; measured {attempts + 1}x)"
                 flagged.append((row, prev, ratio))
+            elif attempts:
+                mark = f"  (remeasured {attempts}x)"
+        rows.append(row)
         prev_rate = f"{prev['collisions_per_s']:13.0f}" if prev else f"{'-':>13}"
         print(
             f"{c['d']:>2} {c['n']:>8} {c['phi']:>5} {c['eps']:>4} {row['collisions_per_s']:13.0f} "
