@@ -4,17 +4,18 @@
 Runs a fixed matrix of cases with the release `edmd-bench` binary, one process per case (so peak memory
 is per case): D in {2, 3}; N in {1e3, 1e4, 1e5, 1e6}; phi in {0.05, 0.3, 0.7} (2D) or {0.05, 0.3, 0.5}
 (3D); elastic and eps = 0.9; periodic box; each case equilibrated elastically for 2 collisions per
-particle (1 from N = 1e5 on) and timed three times, about 1e6 collisions each (at least half a
-collision per particle): median and spread of collisions/s. Runs in about 7 minutes on 2 cores.
+particle (1 from N = 1e5 on), then timed over about 1e6 collisions (at least half a collision per
+particle). Three passes over the matrix: a case's entry is the median and spread of its three
+measurements, taken minutes apart. Runs in about NIGHTLY_MIN minutes on 2 cores.
 
 Appends one JSON line per case to the history file (commit, date, machine, CPU model, collisions/s
 median and spread, peak heap bytes per particle), prints a table, and flags every case that is more
 than 10 % slower than the previous entry of the same case on the same machine. A case that comes out
-slower is measured again first (--confirm, default once) and the fastest measurement is kept, so that
-a neighbour on a shared machine slowing one measurement is not taken for a regression, while a slower
-build, slow every time, is flagged. Exits 1 when a case is flagged (unless --no-fail), 2 on usage errors.
+slower is first measured twice more (--confirm) and its entry becomes the median of all its
+measurements, so that a neighbour on a shared machine slowing some measurements is not taken for a
+regression, while a slower build, slow every time, is flagged. Exits 1 when a case is flagged (unless --no-fail), 2 on usage errors.
 
-    scripts/bench-nightly.py [--history benches/history.jsonl] [--only D=2,N=10000] [--threshold 0.10] [--confirm 1]
+    scripts/bench-nightly.py [--history benches/history.jsonl] [--only D=2,N=10000] [--threshold 0.10] [--passes 3] [--confirm 2]
 """
 
 from __future__ import annotations
@@ -33,7 +34,6 @@ ROOT = Path(__file__).resolve().parent.parent
 NS = [1_000, 10_000, 100_000, 1_000_000]
 PHIS = {2: [0.05, 0.3, 0.7], 3: [0.05, 0.3, 0.5]}
 EPSS = [1.0, 0.9]
-REPEATS = 3
 
 
 def matrix() -> list[dict]:
@@ -107,7 +107,7 @@ def measure(bench: Path, c: dict, run: dict) -> dict | None:
     """One run of edmd-bench on case c: a history row, or None (after an error message) on failure."""
     cmd = [
         str(bench), "--json", "--d", str(c["d"]), "--n", str(c["n"]), "--phi", str(c["phi"]),
-        "--eps", str(c["eps"]), "--repeats", str(REPEATS),
+        "--eps", str(c["eps"]), "--repeats", "1",
         "--collisions-per-particle", str(per_particle(c["n"])), "--melt-tau", str(melt_tau(c["n"])),
     ]
     p = subprocess.run(cmd, capture_output=True, text=True)
@@ -115,8 +115,25 @@ def measure(bench: Path, c: dict, run: dict) -> dict | None:
         print(f"error: case {c} failed: {p.stderr.strip() or p.stdout.strip()}", file=sys.stderr)
         return None
     out = json.loads(p.stdout.strip().splitlines()[-1])
-    keep = ("collisions_per_s", "spread", "bytes_per_particle", "repeats", "collisions", "seconds")
+    keep = ("collisions_per_s", "bytes_per_particle", "collisions", "seconds")
     return {**run, **c, **{k: out[k] for k in keep}}
+
+
+def summarize(ms: list[dict]) -> dict:
+    """A case's history row from its measurements: median collisions/s, spread (max - min) / median,
+    the largest peak bytes per particle, total collisions and seconds."""
+    rates = sorted(m["collisions_per_s"] for m in ms)
+    mid = len(rates) // 2
+    median = rates[mid] if len(rates) % 2 else 0.5 * (rates[mid - 1] + rates[mid])
+    return {
+        **{k: ms[0][k] for k in ("commit", "date", "machine", "cpu", "cores", "d", "n", "phi", "eps")},
+        "collisions_per_s": round(median),
+        "spread": round((rates[-1] - rates[0]) / median, 4),
+        "bytes_per_particle": max(m["bytes_per_particle"] for m in ms),
+        "repeats": len(ms),
+        "collisions": sum(m["collisions"] for m in ms),
+        "seconds": round(sum(m["seconds"] for m in ms), 4),
+    }
 
 
 def main() -> int:
@@ -126,12 +143,16 @@ def main() -> int:
     ap.add_argument("--machine", default=os.environ.get("EDMD_BENCH_MACHINE"), help="machine name (default: CPU model and core count; env EDMD_BENCH_MACHINE)")
     ap.add_argument("--only", help="run the matching cases only, e.g. D=2,N=10000")
     ap.add_argument("--threshold", type=float, default=0.10, help="flag cases slower than the previous entry by more than this fraction (default 0.10)")
-    ap.add_argument("--confirm", type=int, default=1, help="measure a slow case up to this many more times before flagging it (default 1)")
+    ap.add_argument("--passes", type=int, default=3, help="passes over the matrix; a case's entry is the median over them (default 3)")
+    ap.add_argument("--confirm", type=int, default=2, help="measure a slow case this many more times before flagging it (default 2)")
     ap.add_argument("--no-fail", action="store_true", help="exit 0 even when cases are flagged")
     ap.add_argument("--no-record", action="store_true", help="do not append to the history file")
     args = ap.parse_args()
     if not 0 < args.threshold < 1:
         print(f"error: invalid --threshold {args.threshold}: must lie in (0, 1)", file=sys.stderr)
+        return 2
+    if args.passes < 1:
+        print(f"error: invalid --passes {args.passes}: must be >= 1", file=sys.stderr)
         return 2
     if args.confirm < 0:
         print(f"error: invalid --confirm {args.confirm}: must be >= 0", file=sys.stderr)
@@ -170,38 +191,50 @@ def main() -> int:
     for row in history:
         previous[key(row)] = row  # the latest entry of each case wins
 
-    print(f"bench-nightly: commit {run['commit']}, {run['date']}, machine {machine!r}, {len(cases)} cases")
+    print(
+        f"bench-nightly: commit {run['commit']}, {run['date']}, machine {machine!r}, {len(cases)} cases, "
+        f"{args.passes} passes"
+    )
+    # Each pass times every case once, in its own process; a case's entry is the median over the passes.
+    # Spreading a case's measurements over the whole run keeps a neighbour's burst on a shared machine
+    # (which moves the cache-sized cases, N = 1e5, by up to 20 %) from deciding its number.
+    samples: dict[tuple, list[dict]] = {key({**run, **c}): [] for c in cases}
+    start = time.monotonic()
+    for k in range(args.passes):
+        for c in cases:
+            out = measure(bench, c, run)
+            if out is None:
+                return 2
+            samples[key(out)].append(out)
+        print(f"  pass {k + 1}/{args.passes} done after {time.monotonic() - start:.0f} s", flush=True)
+
     header = f"{'D':>2} {'N':>8} {'phi':>5} {'eps':>4} {'collisions/s':>13} {'spread':>7} {'B/N':>6} {'previous':>13} {'change':>7}"
     print(header)
     rows, flagged = [], []
-    start = time.monotonic()
     for c in cases:
-        row = measure(bench, c, run)
-        if row is None:
-            return 2
-        prev = previous.get(key(row))
+        ms = samples[key({**run, **c})]
+        prev = previous.get(key({**run, **c}))
+        row = summarize(ms)
         change, mark = "", ""
         if prev:
             ratio = row["collisions_per_s"] / prev["collisions_per_s"]
-            # A slow case is measured again (up to --confirm times) before it is flagged: a neighbour
-            # on a shared machine can slow one measurement by more than the threshold, a slower build
-            # slows every one. The fastest measurement is kept.
-            attempts = 0
-            while ratio < 1 - args.threshold and attempts < args.confirm:
-                attempts += 1
-                again = measure(bench, c, run)
-                if again is None:
+            # A slow case is measured --confirm more times before it is flagged; its entry becomes the
+            # median of all its measurements. A slower build is slow every time.
+            extra = 0
+            while ratio < 1 - args.threshold and extra < args.confirm:
+                out = measure(bench, c, run)
+                if out is None:
                     return 2
-                if again["collisions_per_s"] > row["collisions_per_s"]:
-                    row = again
+                ms.append(out)
+                extra += 1
+                row = summarize(ms)
                 ratio = row["collisions_per_s"] / prev["collisions_per_s"]
-            row["remeasured"] = attempts
             change = f"{100 * (ratio - 1):+6.1f}%"
             if ratio < 1 - args.threshold:
-                mark = f"  SLOWER (previous {prev['commit']}, {prev['date']}; measured {attempts + 1}x)"
+                mark = f"  SLOWER (previous {prev['commit']}, {prev['date']}; {len(ms)} measurements)"
                 flagged.append((row, prev, ratio))
-            elif attempts:
-                mark = f"  (remeasured {attempts}x)"
+            elif extra:
+                mark = f"  ({len(ms)} measurements)"
         rows.append(row)
         prev_rate = f"{prev['collisions_per_s']:13.0f}" if prev else f"{'-':>13}"
         print(
