@@ -6,7 +6,7 @@ is per case): D in {2, 3}; N in {1e3, 1e4, 1e5, 1e6}; phi in {0.05, 0.3, 0.7} (2
 (3D); elastic and eps = 0.9; periodic box; each case equilibrated elastically for 2 collisions per
 particle (1 from N = 1e5 on), then timed over about 1e6 collisions (at least half a collision per
 particle). Three passes over the matrix: a case's entry is the median and spread of its three
-measurements, taken minutes apart. Runs in about NIGHTLY_MIN minutes on 2 cores.
+measurements, taken minutes apart. Runs in about 10 minutes on 2 cores.
 
 Appends one JSON line per case to the history file (commit, date, machine, CPU model, collisions/s
 median and spread, peak heap bytes per particle), prints a table, and flags every case that is more
