@@ -1,11 +1,15 @@
 //! Homogeneous cooling state against kinetic theory (PHYSICS.md §2.2–2.3): in periodic boxes of half
 //! the shear-critical size L⊥ (so that the state stays homogeneous), the decay rate −d ln T/dτ
-//! fitted over τ ∈ [5, 40] matches k(ε) within 2 %, averaged over seeds, and the speed kurtosis
-//! matches (d+2)/d·(1 + a₂) within 0.02.
+//! fitted over τ ∈ [5, 40] matches the Haff rate within 2 % (4 % at ε = 0.6), averaged over seeds, and
+//! the speed kurtosis matches (d+2)/d·(1 + a₂) within 0.02.
 //!
-//! Dense (φ = 0.25) and strongly inelastic (ε = 0.6) cases are not here yet: below L⊥ they hold fewer
-//! than 100 particles, where finite-size corrections of several per cent appear (measured: −7 % at
-//! N = 80, +7 % at N = 15 for ε = 0.8, φ = 0.25); they need a finite-size analysis first.
+//! The Haff rate of N particles with zero total momentum is k(ε)·N/(N − 1), exactly: their
+//! temperature m⟨v²⟩/d averages over N particles, but only d(N − 1) degrees of freedom are free, so
+//! pairs meet with ⟨g²⟩ = 2⟨v²⟩·N/(N − 1) and each collision removes that much more energy. Below L⊥
+//! at φ = 0.25 the box holds 12–460 disks (ε = 0.6–0.99), where the factor is 0.2–9 %. Measured with
+//! `examples/haff_finite_size.rs` (ε = 0.8, φ = 0.25, 10⁵–2·10⁵ particle runs per size): boxes of
+//! 0.3–0.4 L⊥ (N = 9, 15) give k·N/(N − 1) to −0.24 %; larger boxes fall below it as the stable but
+//! enhanced shear modes hold more of the kinetic energy (−1.0 % at L⊥/2, −7.9 % at 0.9 L⊥).
 
 use edmd_core::theory::{a2, critical_sizes, haff_rate, Transport};
 use edmd_core::{ConstantRestitution, InitParams, Periodic, Schedule, Stop, Vector};
@@ -48,20 +52,21 @@ fn decay<const D: usize>(eps: f64, phi: f64, n: usize, seeds: u64) -> (f64, f64,
 }
 
 /// Box side L⊥/2 (Enskog), where the transverse modes are only mildly enhanced (S⊥ ≈ 4/3), or the
-/// side holding 2000 particles if smaller; ~4·10^4 particles over all seeds.
+/// side holding 2000 particles if smaller; ~8·10^4 particles over all seeds.
 fn check<const D: usize>(eps: f64, phi: f64, tolerance: f64) {
     let (l_perp, _) = critical_sizes(D, eps, phi, 1.0, Transport::Enskog);
     let side = 0.5 * l_perp;
-    let n =
-        ((phi * side.powi(D as i32) / edmd_core::init::unit_volume::<D>(0.5)) as usize).min(2000);
-    assert!(n >= 100, "box too small for a gas: N = {n}");
-    let seeds = (40_000 / n).clamp(4, 200) as u64;
+    let n = ((phi * side.powi(D as i32) / edmd_core::init::unit_volume::<D>(0.5)).round() as usize)
+        .min(2000);
+    assert!(n >= 8, "box too small for a gas: N = {n}");
+    let seeds = (80_000 / n).clamp(4, 2000) as u64;
     let (k, se, kurtosis) = decay::<D>(eps, phi, n, seeds);
-    let theory = haff_rate(D, eps);
+    let theory = haff_rate(D, eps) * n as f64 / (n as f64 - 1.0);
     let dev = k / theory - 1.0;
     println!(
-        "D = {D}, eps = {eps}, phi = {phi}: N = {n} x {seeds} seeds, fitted k = {k:.5} ± {se:.5}, theory {theory:.5} ({:+.2} %), kurtosis {kurtosis:.4} (theory {:.4})",
+        "D = {D}, eps = {eps}, phi = {phi}: N = {n} x {seeds} seeds, fitted k = {k:.5} ± {se:.5}, theory k N/(N-1) = {theory:.5} ({:+.2} %; {:+.2} % against k), kurtosis {kurtosis:.4} (theory {:.4})",
         100.0 * dev,
+        100.0 * (k / haff_rate(D, eps) - 1.0),
         (D as f64 + 2.0) / D as f64 * (1.0 + a2(D, eps))
     );
     assert!(
@@ -73,11 +78,15 @@ fn check<const D: usize>(eps: f64, phi: f64, tolerance: f64) {
         "decay rate off by {:.2} %",
         100.0 * dev
     );
+    // The kurtosis of a snapshot of N speeds is biased at O(1/N) (it cannot exceed N, and the
+    // speeds share a fixed energy); it is compared from N = 100 on (PHYSICS.md asks N ≥ 500).
     let kurtosis_theory = (D as f64 + 2.0) / D as f64 * (1.0 + a2(D, eps));
-    assert!(
-        (kurtosis - kurtosis_theory).abs() < 0.02,
-        "kurtosis {kurtosis} vs {kurtosis_theory}"
-    );
+    if n >= 100 {
+        assert!(
+            (kurtosis - kurtosis_theory).abs() < 0.02,
+            "kurtosis {kurtosis} vs {kurtosis_theory}"
+        );
+    }
 }
 
 #[test]
@@ -85,6 +94,15 @@ fn disks_dilute() {
     check::<2>(0.99, 0.05, 0.02);
     check::<2>(0.9, 0.05, 0.02);
     check::<2>(0.8, 0.05, 0.02);
+    check::<2>(0.6, 0.05, 0.04);
+}
+
+#[test]
+fn disks_dense() {
+    check::<2>(0.99, 0.25, 0.02);
+    check::<2>(0.9, 0.25, 0.02);
+    check::<2>(0.8, 0.25, 0.02);
+    check::<2>(0.6, 0.25, 0.04);
 }
 
 #[test]
