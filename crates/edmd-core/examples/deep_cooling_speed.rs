@@ -4,20 +4,38 @@
 //! logarithm) and collisions per second, and the ratio of the two rates.
 //!
 //! The default system clusters (its box is ten times L∥): it cools only to T/T0 ≈ 10^-4.6 by τ = 2000,
-//! and without a remedy some seeds collapse. A homogeneous box shows the cost of deep cooling itself,
+//! and without a remedy some seeds collapse (with TC = 1e-4 mean free times none does:
+//! `-- 3 10000 0.1 2000 0.6 1e-4`). A homogeneous box shows the cost of deep cooling itself,
 //! e.g. `-- 3 270 0.05 4000 0.9` (0.5 L⊥, Haff: T/T0 = 10^-328).
 //!
-//! `cargo run --release -p edmd-core --example deep_cooling_speed [-- SEEDS [N [PHI [TAU [EPS]]]]]`
+//! `cargo run --release -p edmd-core --example deep_cooling_speed [-- SEEDS [N [PHI [TAU [EPS [TC]]]]]]`
 
-use edmd_core::{ConstantRestitution, InitParams, Periodic, RunEnd, Stop};
+use edmd_core::theory::{chi, collision_frequency};
+use edmd_core::{CollisionRule, ConstantRestitution, InitParams, Periodic, RunEnd, Stop, TcModel};
 use std::time::Instant;
 
-fn run(eps: f64, n: usize, phi: f64, tau: f64, seed: u64) -> (RunEnd, f64, f64, f64) {
+/// Runs ε-restitution (with the TC model if `tc` > 0, in mean free times at T = 1) for `tau`.
+fn run(eps: f64, tc: f64, n: usize, phi: f64, tau: f64, seed: u64) -> (RunEnd, f64, f64, f64) {
+    let rule = ConstantRestitution::new(eps).expect("valid epsilon");
+    if tc > 0.0 && eps < 1.0 {
+        let nu = collision_frequency(2, phi, chi(2, phi), 1.0, 1.0, 1.0);
+        let tc_model = TcModel::new(rule, tc / nu).expect("valid t_c");
+        run_rule(tc_model, n, phi, tau, seed)
+    } else {
+        run_rule(rule, n, phi, tau, seed)
+    }
+}
+
+fn run_rule<R: CollisionRule>(
+    rule: R,
+    n: usize,
+    phi: f64,
+    tau: f64,
+    seed: u64,
+) -> (RunEnd, f64, f64, f64) {
     let mut p = InitParams::<2>::with_packing(n, phi).expect("valid parameters");
     p.seed = seed;
-    let mut sim = p
-        .build::<Periodic, _>(ConstantRestitution::new(eps).expect("valid epsilon"))
-        .expect("valid state");
+    let mut sim = p.build::<Periodic, _>(rule).expect("valid state");
     let (c0, tau0, ln_t0) = (
         sim.counters().pair_collisions,
         sim.tau(),
@@ -54,16 +72,16 @@ fn main() {
         arg(3, 0.1),
         arg(4, 2000.0),
     );
-    let eps = arg(5, 0.6);
-    println!("deep cooling: N = {n}, phi = {phi}, eps = {eps} against eps = 1, tau = {tau}");
+    let (eps, tc) = (arg(5, 0.6), arg(6, 0.0));
+    println!("deep cooling: N = {n}, phi = {phi}, eps = {eps} (TC model t_c = {tc} mean free times at T0; 0: none) against eps = 1, tau = {tau}");
     println!(
         "{:>5} {:>5} {:>10} {:>8} {:>12} {:>12} {:>7}",
         "seed", "eps", "end", "tau", "log10 T/T0", "coll/s", "ratio"
     );
     let mut ratios = Vec::new();
     for seed in 1..=seeds {
-        let (e1, t1, l1, r1) = run(1.0, n, phi, tau, seed);
-        let (e6, t6, l6, r6) = run(eps, n, phi, tau, seed);
+        let (e1, t1, l1, r1) = run(1.0, 0.0, n, phi, tau, seed);
+        let (e6, t6, l6, r6) = run(eps, tc, n, phi, tau, seed);
         println!(
             "{seed:>5} {:>5} {:>10} {t1:>8.1} {l1:>12.2} {r1:>12.0}",
             1.0,
