@@ -42,11 +42,7 @@ fn cooling<R: CollisionRule + Copy>(
         });
         secs += start.elapsed().as_secs_f64();
         collisions += sim.counters().pair_collisions;
-        let mx = xs.iter().sum::<f64>() / xs.len() as f64;
-        let my = ys.iter().sum::<f64>() / ys.len() as f64;
-        let sxy: f64 = xs.iter().zip(&ys).map(|(x, y)| (x - mx) * (y - my)).sum();
-        let sxx: f64 = xs.iter().map(|x| (x - mx).powi(2)).sum();
-        slopes.push(-sxy / sxx);
+        slopes.push(edmd_core::decay_rate(&xs, &ys));
     }
     let m = slopes.iter().sum::<f64>() / slopes.len() as f64;
     let se = if slopes.len() > 1 {

@@ -7,15 +7,7 @@
 //! (PARTICLE_RUNS = N × seeds per box size, e.g. 40000).
 
 use edmd_core::theory::{critical_sizes, haff_rate, Transport};
-use edmd_core::{ConstantRestitution, InitParams, Periodic, Schedule, Stop, Vector};
-
-fn slope(xs: &[f64], ys: &[f64]) -> f64 {
-    let n = xs.len() as f64;
-    let (mx, my) = (xs.iter().sum::<f64>() / n, ys.iter().sum::<f64>() / n);
-    let sxy: f64 = xs.iter().zip(ys).map(|(x, y)| (x - mx) * (y - my)).sum();
-    let sxx: f64 = xs.iter().map(|x| (x - mx).powi(2)).sum();
-    -sxy / sxx
-}
+use edmd_core::{decay_rate, ConstantRestitution, InitParams, Periodic, Schedule, Stop, Vector};
 
 fn study<const D: usize>(eps: f64, phi: f64, budget: usize, fractions: &[f64]) {
     let (l_perp, _) = critical_sizes(D, eps, phi, 1.0, Transport::Enskog);
@@ -46,7 +38,7 @@ fn study<const D: usize>(eps: f64, phi: f64, budget: usize, fractions: &[f64]) {
                     ys.push(s.ln_temperature());
                 }
             });
-            slopes.push(slope(&xs, &ys));
+            slopes.push(decay_rate(&xs, &ys));
         }
         let m = slopes.iter().sum::<f64>() / slopes.len() as f64;
         let se = (slopes.iter().map(|s| (s - m).powi(2)).sum::<f64>()

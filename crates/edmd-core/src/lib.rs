@@ -51,7 +51,7 @@ pub use collide::{
 };
 pub use error::EdmdError;
 pub use init::{InitParams, Placement, Velocities};
-pub use observe::{Observables, Schedule, VirialMeter, VirialReading};
+pub use observe::{decay_rate, Observables, Schedule, VirialMeter, VirialReading};
 pub use order::{order_parameters, OrderParameters};
 pub use sim::{Collapse, CollapseReason, Counters, EventKind, RunEnd, SimParams, Simulation, Stop};
 pub use state::{Particle, ParticleInit};

@@ -150,6 +150,19 @@ impl VirialMeter {
     }
 }
 
+/// Decay rate −d ln T/dτ from samples `(τ, ln T)`: minus the least-squares slope. NaN with fewer
+/// than two distinct τ or slices of different lengths.
+pub fn decay_rate(tau: &[f64], ln_t: &[f64]) -> f64 {
+    if tau.len() != ln_t.len() {
+        return f64::NAN;
+    }
+    let n = tau.len() as f64;
+    let (mx, my) = (tau.iter().sum::<f64>() / n, ln_t.iter().sum::<f64>() / n);
+    let sxy: f64 = tau.iter().zip(ln_t).map(|(x, y)| (x - mx) * (y - my)).sum();
+    let sxx: f64 = tau.iter().map(|x| (x - mx).powi(2)).sum();
+    -sxy / sxx
+}
+
 /// Points in τ at which to sample: a linear grid, a logarithmic grid, and explicit points, merged.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Schedule {
@@ -240,6 +253,19 @@ impl Schedule {
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn decay_rate_of_an_exponential_with_noise_free_samples() {
+        // ln T = 3 − 0.25 τ, sampled unevenly: the rate is 0.25 to round-off.
+        let tau = [5.0, 6.5, 9.0, 20.0, 40.0];
+        let ln_t: Vec<f64> = tau.iter().map(|t| 3.0 - 0.25 * t).collect();
+        assert!((super::decay_rate(&tau, &ln_t) - 0.25).abs() < 1e-14);
+        // By hand: τ̄ = ȳ = 1.5, Σ(τ−τ̄)(y−ȳ) = −1, Σ(τ−τ̄)² = 5, so the rate is 1/5.
+        let ln_t = [2.0, 1.0, 2.0, 1.0];
+        assert!((super::decay_rate(&[0.0, 1.0, 2.0, 3.0], &ln_t) - 0.2).abs() < 1e-15);
+        assert!(super::decay_rate(&[1.0], &[1.0]).is_nan());
+        assert!(super::decay_rate(&[1.0, 2.0], &[1.0]).is_nan());
+    }
+
     use super::*;
 
     #[test]

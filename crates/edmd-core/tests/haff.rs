@@ -12,7 +12,7 @@
 //! enhanced shear modes hold more of the kinetic energy (−1.0 % at L⊥/2, −7.9 % at 0.9 L⊥).
 
 use edmd_core::theory::{a2, critical_sizes, haff_rate, Transport};
-use edmd_core::{ConstantRestitution, InitParams, Periodic, Schedule, Stop, Vector};
+use edmd_core::{decay_rate, ConstantRestitution, InitParams, Periodic, Schedule, Stop, Vector};
 
 /// Mean over seeds of the least-squares slope of ln T(τ) on τ ∈ [5, 40], and the mean kurtosis
 /// over the same window.
@@ -35,13 +35,7 @@ fn decay<const D: usize>(eps: f64, phi: f64, n: usize, seeds: u64) -> (f64, f64,
                 kurt.push(o.kurtosis);
             }
         });
-        let (mx, my) = (
-            xs.iter().sum::<f64>() / xs.len() as f64,
-            ys.iter().sum::<f64>() / ys.len() as f64,
-        );
-        let sxy: f64 = xs.iter().zip(&ys).map(|(x, y)| (x - mx) * (y - my)).sum();
-        let sxx: f64 = xs.iter().map(|x| (x - mx).powi(2)).sum();
-        slopes.push(-sxy / sxx);
+        slopes.push(decay_rate(&xs, &ys));
     }
     let m = slopes.iter().sum::<f64>() / slopes.len() as f64;
     let se = (slopes.iter().map(|s| (s - m).powi(2)).sum::<f64>()
