@@ -13,9 +13,11 @@ median and spread, peak heap bytes per particle), prints a table, and flags ever
 than 10 % slower than the previous entry of the same case on the same machine. A case that comes out
 slower is first measured twice more (--confirm) and its entry becomes the median of all its
 measurements, so that a neighbour on a shared machine slowing some measurements is not taken for a
-regression, while a slower build, slow every time, is flagged. Exits 1 when a case is flagged (unless --no-fail), 2 on usage errors.
+regression, while a slower build, slow every time, is flagged. Exits 1 when a case is flagged
+(unless --no-fail), 2 on usage errors.
 
-    scripts/bench-nightly.py [--history benches/history.jsonl] [--only D=2,N=10000] [--threshold 0.10] [--passes 3] [--confirm 2]
+    scripts/bench-nightly.py [--history benches/history.jsonl] [--only D=2,N=10000]
+                             [--threshold 0.10] [--passes 3] [--confirm 2]
 """
 
 from __future__ import annotations
