@@ -420,7 +420,8 @@ fn lattice_positions<const D: usize, B: Boundary>(
             for a in 0..D {
                 let u = idx[a] as f64 + 0.5 * b as f64;
                 x[a] = if B::is_wall(a) {
-                    radius + u * spacing(a, cells[a])
+                    // The far site can land one ulp beyond L − r.
+                    (radius + u * spacing(a, cells[a])).min(box_len[a] - radius)
                 } else {
                     (u + 0.25) * spacing(a, cells[a])
                 };

@@ -31,6 +31,7 @@ pub mod cells;
 pub mod collide;
 pub mod error;
 pub mod init;
+pub mod nlist;
 pub mod observe;
 pub mod order;
 pub mod predict;

@@ -21,10 +21,13 @@ use rand_xoshiro::Xoshiro256PlusPlus;
 
 use crate::calendar::{Calendar, PaulCalendar};
 use crate::cells::{CellGrid, NONE};
+use crate::nlist::NeighbourLists;
 use crate::predict::{approaching, fall_time, pair_time, reach_time, rise_time};
 use crate::{Boundary, CollisionRule, EdmdError, Particle, ParticleInit, Vector};
 
 const WALL: u8 = 0x80;
+/// Aux code of a shell exit (neighbour-list mode).
+const SHELL: u8 = 0x40;
 const EVENTS_PER_BUCKET: f64 = 2.0;
 
 /// Per-particle pending event.
@@ -124,7 +127,7 @@ pub struct Counters {
     pub pair_collisions: u64,
     /// Particle–wall collisions.
     pub wall_collisions: u64,
-    /// Cell crossings.
+    /// Cell crossings (with neighbour lists: shell exits, each renewing the particle's list).
     pub crossings: u64,
     /// Σ over pair collisions of `r_ij · Δp_i` (the collision virial), in the simulation's units.
     pub virial: f64,
@@ -153,6 +156,11 @@ pub struct SimParams {
     /// grains resting on the floor from bouncing ever faster (a collapse against the wall): their
     /// bounces keep a height of at least ~ε_w²δ²/(2g).
     pub wall_threshold: f64,
+    /// Neighbour lists instead of cell crossings (0, the default, for cells): the skin `δ` in units
+    /// of the largest diameter (see [`crate::nlist`]). Pays in dense packings, where particles need
+    /// many collisions to move `δ/2`; ignored under gravity and where the box holds fewer than three
+    /// cells of side `σ + δ`.
+    pub neighbour_skin: f64,
 }
 
 impl Default for SimParams {
@@ -165,6 +173,7 @@ impl Default for SimParams {
             seed: 0,
             gravity: 0.0,
             wall_threshold: 0.0,
+            neighbour_skin: 0.0,
         }
     }
 }
@@ -172,7 +181,7 @@ impl Default for SimParams {
 impl SimParams {
     /// Checks every field against its domain; the error names the field and the value.
     pub fn validate(&self) -> Result<(), EdmdError> {
-        let checks: [(&'static str, f64, bool, &str); 6] = [
+        let checks: [(&'static str, f64, bool, &str); 7] = [
             (
                 "cell_factor",
                 self.cell_factor,
@@ -202,6 +211,12 @@ impl SimParams {
                 self.rescale_below,
                 (0.0..1.0).contains(&self.rescale_below),
                 "must lie in [0, 1)",
+            ),
+            (
+                "neighbour_skin",
+                self.neighbour_skin,
+                self.neighbour_skin >= 0.0 && self.neighbour_skin.is_finite(),
+                "must be ≥ 0 and finite",
             ),
             (
                 "rebase_events_per_particle",
@@ -243,6 +258,8 @@ pub struct Simulation<const D: usize, B: Boundary, R: CollisionRule, C: Calendar
     /// Per-particle memory of the collision rule (zero-sized, so free, for memoryless rules).
     pub(crate) rule_state: Vec<R::State>,
     pub(crate) grid: CellGrid<D>,
+    /// Neighbour lists, when they replace cell crossings ([`SimParams::neighbour_skin`]).
+    pub(crate) nl: Option<NeighbourLists<D>>,
     pub(crate) calendar: C,
     pub(crate) rule: R,
     pub(crate) box_len: Vector<D>,
@@ -348,7 +365,17 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             }
             max_d = max_d.max(2.0 * p.radius);
         }
-        let grid = CellGrid::new(&box_len, max_d, max_d * params.cell_factor, n)?;
+        let skin = params.neighbour_skin * max_d;
+        let list_grid = (skin > 0.0 && !B::GRAVITY)
+            .then(|| CellGrid::new(&box_len, max_d + skin, max_d * params.cell_factor, n).ok())
+            .flatten();
+        let (grid, nl) = match list_grid {
+            Some(g) => (g, Some(NeighbourLists::new(n, skin))),
+            None => (
+                CellGrid::new(&box_len, max_d, max_d * params.cell_factor, n)?,
+                None,
+            ),
+        };
         let meta = particles
             .iter()
             .enumerate()
@@ -374,6 +401,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             meta,
             rule_state: vec![R::State::default(); n],
             grid,
+            nl,
             calendar: C::with_capacity(n),
             rule,
             box_len,
@@ -401,6 +429,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         if let Some((i, j, overlap)) = sim.deepest_overlap().filter(|o| o.2 > 1e-12) {
             return Err(EdmdError::Overlap { i, j, overlap });
         }
+        sim.build_lists();
         sim.restart_events();
         Ok(sim)
     }
@@ -412,6 +441,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             rule_state: vec![R2::State::default(); self.meta.len()],
             meta: self.meta,
             grid: self.grid,
+            nl: self.nl,
             calendar: self.calendar,
             rule,
             box_len: self.box_len,
@@ -528,6 +558,9 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                 m.ev.partner = inv[m.ev.partner as usize];
             }
         }
+        if let Some(nl) = &mut self.nl {
+            nl.permute(&perm, &inv);
+        }
         self.grid.clear();
         for s in (0..n).rev() {
             let idx = self.grid.index(&self.meta[s].cell);
@@ -588,6 +621,9 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             self.predict(i);
             self.monitor.pair = (NONE, NONE);
             EventKind::Wall(self.meta[i].id)
+        } else if e.aux & SHELL != 0 {
+            self.renew_list(i);
+            EventKind::CellCrossing(self.meta[i].id)
         } else {
             self.cross(i, (e.aux >> 1) as usize, e.aux & 1 != 0);
             EventKind::CellCrossing(self.meta[i].id)
@@ -675,6 +711,9 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     /// `only = Some((axis, dir))`, just the cells at offset `dir` along `axis`.
     #[inline]
     fn search(&self, i: usize, only: Option<(usize, i32)>, mut best: (f64, u32)) -> (f64, u32) {
+        if let Some(nl) = &self.nl {
+            return self.search_list(nl, i, best);
+        }
         let pi = self.particles[i];
         let pos_i = pi.r0 + pi.vel * self.now;
         let ci = self.meta[i].cell;
@@ -780,6 +819,9 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     /// Next cell crossing or wall contact of particle `i` (at now).
     #[inline]
     fn aux_event(&self, i: usize) -> (f64, u8) {
+        if let Some(nl) = &self.nl {
+            return self.aux_event_list(nl, i);
+        }
         let p = &self.particles[i];
         let c = &self.meta[i].cell;
         let mut best = (f64::INFINITY, 0u8);
@@ -1014,6 +1056,188 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             self.search(i, None, (f64::INFINITY, NONE))
         };
         self.store(i, t, partner);
+    }
+
+    /// Neighbour-list mode: draws every shell around the particle's current position, files each
+    /// particle in the cell of its centre and fills all lists from scratch.
+    fn build_lists(&mut self) {
+        let Some(mut nl) = self.nl.take() else {
+            return;
+        };
+        nl.clear();
+        self.grid.clear();
+        for i in 0..self.particles.len() {
+            let pos = self.wrapped_now(i);
+            nl.centre[i] = pos;
+            let c = self.grid.coords_of(&pos);
+            self.meta[i].cell = c;
+            self.grid
+                .insert(&mut self.particles, i as u32, self.grid.index(&c));
+        }
+        for i in 0..self.particles.len() {
+            self.gather(&mut nl, i, true);
+        }
+        self.nl = Some(nl);
+    }
+
+    /// The position of slot `i` now, with its trajectory moved by whole box lengths so that the
+    /// position lies in the box on every periodic axis (neighbour-list mode; no gravity).
+    fn wrapped_now(&mut self, i: usize) -> Vector<D> {
+        let now = self.now;
+        let p = &mut self.particles[i];
+        let mut pos = p.r0 + p.vel * now;
+        for a in 0..D {
+            if !B::is_wall(a) {
+                let l = self.box_len[a];
+                if pos[a] < 0.0 {
+                    pos[a] += l;
+                    p.r0[a] += l;
+                } else if pos[a] >= l {
+                    pos[a] -= l;
+                    p.r0[a] -= l;
+                }
+            }
+        }
+        pos
+    }
+
+    /// Links slot `i` with every particle whose shell centre lies within `σ + δ` of its own, found in
+    /// the 3^D cells around `i`'s cell; with `later_only`, only slots above `i` (full builds).
+    fn gather(&self, nl: &mut NeighbourLists<D>, i: usize, later_only: bool) {
+        let ci = self.meta[i].cell;
+        let centre = nl.centre[i];
+        let ri = self.particles[i].radius;
+        'cells: for code in 0..3usize.pow(D as u32) {
+            let mut rest = code;
+            let mut idx = 0;
+            for a in 0..D {
+                let n = self.grid.n[a] as i32;
+                let x = ci[a] as i32 + (rest % 3) as i32 - 1;
+                rest /= 3;
+                if (x < 0 || x >= n) && B::is_wall(a) {
+                    continue 'cells;
+                }
+                idx += x.rem_euclid(n) as usize * self.grid.stride[a];
+            }
+            let mut k = self.grid.first(idx);
+            while k != NONE {
+                let j = k as usize;
+                let pj = &self.particles[j];
+                k = pj.next_in_cell;
+                if j == i || (later_only && j < i) {
+                    continue;
+                }
+                let mut d = centre - nl.centre[j];
+                for a in 0..D {
+                    if !B::is_wall(a) {
+                        if d[a] > self.half_box[a] {
+                            d[a] -= self.box_len[a];
+                        } else if d[a] < -self.half_box[a] {
+                            d[a] += self.box_len[a];
+                        }
+                    }
+                }
+                let reach = ri + pj.radius + nl.skin;
+                if d.norm_squared() < reach * reach {
+                    nl.link(i, j);
+                }
+            }
+        }
+    }
+
+    /// Shell exit of slot `i`: a new shell around its current position, new neighbours, and a new
+    /// prediction. Its trajectory is unchanged, so every other particle's event stays valid.
+    fn renew_list(&mut self, i: usize) {
+        self.counters.crossings += 1;
+        let Some(mut nl) = self.nl.take() else {
+            return;
+        };
+        nl.detach(i);
+        let pos = self.wrapped_now(i);
+        nl.centre[i] = pos;
+        let c = self.grid.coords_of(&pos);
+        if c != self.meta[i].cell {
+            let old = self.grid.index(&self.meta[i].cell);
+            self.grid.remove(&mut self.particles, i as u32, old);
+            self.grid
+                .insert(&mut self.particles, i as u32, self.grid.index(&c));
+            self.meta[i].cell = c;
+        }
+        self.gather(&mut nl, i, false);
+        self.nl = Some(nl);
+        self.predict(i);
+    }
+
+    /// Earliest contact of slot `i` (at now) with its listed neighbours.
+    #[inline]
+    fn search_list(&self, nl: &NeighbourLists<D>, i: usize, mut best: (f64, u32)) -> (f64, u32) {
+        let now = self.now;
+        let pi = self.particles[i];
+        let pos_i = pi.r0 + pi.vel * now;
+        let vi2 = pi.vel.norm_squared();
+        let list = nl.of(i);
+        for (k, &j) in list.iter().enumerate() {
+            if let Some(&next) = list.get(k + 1) {
+                crate::prefetch::prefetch(&self.particles[next as usize]);
+            }
+            let pj = &self.particles[j as usize];
+            let pos_j = pj.r0 + pj.vel * now;
+            // The nearest image, written exactly as `collide` writes it.
+            let mut ri = pos_i;
+            for a in 0..D {
+                if !B::is_wall(a) {
+                    let d = pos_i[a] - pos_j[a];
+                    if d > self.half_box[a] {
+                        ri[a] -= self.box_len[a];
+                    } else if d < -self.half_box[a] {
+                        ri[a] += self.box_len[a];
+                    }
+                }
+            }
+            let dr = ri - pos_j;
+            let dv = pi.vel - pj.vel;
+            let t = now + pair_time(&dr, &dv, pi.radius + pj.radius, vi2 + pj.vel.norm_squared());
+            if t < best.0 {
+                best = (t, j);
+            }
+        }
+        best
+    }
+
+    /// Neighbour-list mode: the shell exit or wall contact of slot `i` (at now), whichever is first.
+    #[inline]
+    fn aux_event_list(&self, nl: &NeighbourLists<D>, i: usize) -> (f64, u8) {
+        let now = self.now;
+        let p = &self.particles[i];
+        let pos = p.r0 + p.vel * now;
+        let u = pos - nl.centre[i];
+        let v2 = p.vel.norm_squared();
+        let mut best = (f64::INFINITY, SHELL);
+        if v2 > 0.0 {
+            // Positive root of |u + v s|² = h² with |u| ≤ h (up to round-off), cancellation-free.
+            let b = u.dot(&p.vel);
+            let c = (u.norm_squared() - nl.shell * nl.shell).min(0.0);
+            let q = (b * b - v2 * c).sqrt();
+            let s = if b > 0.0 { -c / (b + q) } else { (q - b) / v2 };
+            best.0 = now + s;
+        }
+        for a in 0..D {
+            let v = p.vel[a];
+            if !B::is_wall(a) || v == 0.0 {
+                continue;
+            }
+            let up = v > 0.0;
+            let target = if up {
+                self.box_len[a] - p.radius
+            } else {
+                p.radius
+            };
+            let t = now + reach_time(pos[a], v, target);
+            if t < best.0 {
+                best = (t, WALL | (a as u8) << 1 | up as u8);
+            }
+        }
+        best
     }
 
     /// Simulated local time at physical time `t`.
@@ -1308,6 +1532,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         self.particles.capacity() * size_of::<Particle<D>>()
             + self.meta.capacity() * size_of::<Meta<D>>()
             + self.grid.heap_bytes()
+            + self.nl.as_ref().map_or(0, |nl| nl.heap_bytes())
     }
 
     /// The deepest overlap among all neighbouring pairs, as `(i, j, depth / contact distance)` with

@@ -1,6 +1,7 @@
 //! Random fuzzing of scene × rule × remedy × parameters (proptest): whatever the combination, the
 //! engine must not panic, must never let two particles overlap, must conserve momentum where the
-//! scene has no walls, and must never create energy (kinetic + rotational + potential).
+//! scene has no walls, and must never create energy (kinetic + rotational + potential). Half the
+//! cases use neighbour lists (a random skin) instead of cell crossings.
 //!
 //! `cargo test` runs 48 cases; `PROPTEST_CASES=2000` (set by `make stress`) runs more.
 
@@ -25,16 +26,28 @@ struct Case {
     knob: f64,
     seed: u64,
     events: u64,
+    /// Neighbour-list skin (0: cell crossings).
+    skin: f64,
 }
 
 fn cases() -> impl Strategy<Value = Case> {
     (
         (2usize..=3, 0u8..4, 0u8..5, 0u8..3),
         (2usize..150, 0.002f64..0.45, 0.0f64..=1.0, -1.0f64..=1.0),
-        (0.0f64..=1.0, 0.0f64..=1.0, any::<u64>(), 500u64..6000),
+        (
+            0.0f64..=1.0,
+            0.0f64..=1.0,
+            any::<u64>(),
+            500u64..6000,
+            prop_oneof![Just(0.0), 0.02f64..1.0],
+        ),
     )
         .prop_map(
-            |((d, scene, rule, remedy), (n, phi, eps, beta), (wall_eps, knob, seed, events))| {
+            |(
+                (d, scene, rule, remedy),
+                (n, phi, eps, beta),
+                (wall_eps, knob, seed, events, skin),
+            )| {
                 Case {
                     d,
                     scene,
@@ -49,6 +62,7 @@ fn cases() -> impl Strategy<Value = Case> {
                     knob,
                     seed,
                     events,
+                    skin,
                 }
             },
         )
@@ -83,6 +97,7 @@ fn check<const D: usize, B: Boundary, R: CollisionRule>(
         gravity: if gravity { 0.05 + case.knob } else { 0.0 },
         wall_threshold: if gravity { 0.05 } else { 0.0 },
         seed: case.seed,
+        neighbour_skin: case.skin,
         ..SimParams::for_density::<D>(case.phi)
     });
     // Bad combinations (a box too small for three cells, a packing too dense to place at random)

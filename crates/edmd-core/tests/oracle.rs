@@ -3,7 +3,7 @@
 
 use edmd_core::{
     Boundary, Calendar, Elastic, EventKind, HeapCalendar, InitParams, PaulCalendar, Periodic,
-    Simulation, Vector, Walls,
+    SimParams, Simulation, Vector, Walls,
 };
 
 /// Earliest contact over all pairs, from scratch, with the minimum image on periodic axes; the plain
@@ -52,9 +52,18 @@ fn next_collision<const D: usize, B: Boundary, C: Calendar>(
     }
 }
 
-fn check_against_brute_force<const D: usize>(phi: f64) {
+/// Neighbour lists with skin `skin` (0: cell crossings) in otherwise default settings.
+fn with_skin<const D: usize>(p: &mut InitParams<D>, phi: f64, skin: f64) {
+    p.sim = Some(SimParams {
+        neighbour_skin: skin,
+        ..SimParams::for_density::<D>(phi)
+    });
+}
+
+fn check_against_brute_force<const D: usize>(phi: f64, skin: f64) {
     let mut p = InitParams::<D>::with_packing(200, phi).unwrap();
     p.seed = 7;
+    with_skin(&mut p, phi, skin);
     let mut sim = p.build::<Periodic, _>(Elastic).unwrap();
     let box_len = *sim.box_len();
     let mut worst: f64 = 0.0;
@@ -72,22 +81,35 @@ fn check_against_brute_force<const D: usize>(phi: f64) {
             sim.time()
         );
     }
-    println!("D = {D}: 10^4 collisions match, worst relative time error {worst:.2e}");
+    println!("D = {D}, skin {skin}: 10^4 collisions match, worst relative time error {worst:.2e}");
 }
 
 #[test]
 fn first_ten_thousand_collisions_match_brute_force_2d() {
-    check_against_brute_force::<2>(0.3);
+    check_against_brute_force::<2>(0.3, 0.0);
 }
 
 #[test]
 fn first_ten_thousand_collisions_match_brute_force_3d() {
-    check_against_brute_force::<3>(0.2);
+    check_against_brute_force::<3>(0.2, 0.0);
+}
+
+#[test]
+fn neighbour_lists_match_brute_force() {
+    check_against_brute_force::<2>(0.3, 0.3);
+    check_against_brute_force::<3>(0.4, 0.4);
+    // A skin so thin that lists are renewed more often than particles collide.
+    check_against_brute_force::<3>(0.2, 0.02);
 }
 
 fn same_sequences<const D: usize, B: Boundary>(phi: f64, events: usize) {
+    same_sequences_with::<D, B>(phi, events, 0.0);
+}
+
+fn same_sequences_with<const D: usize, B: Boundary>(phi: f64, events: usize, skin: f64) {
     let mut p = InitParams::<D>::with_packing(1000, phi).unwrap();
     p.seed = 11;
+    with_skin(&mut p, phi, skin);
     let mut a = p
         .build_with_calendar::<B, _, PaulCalendar>(Elastic)
         .unwrap();
@@ -112,4 +134,11 @@ fn paul_and_binary_heap_calendars_agree_2d() {
 fn paul_and_binary_heap_calendars_agree_3d() {
     same_sequences::<3, Periodic>(0.3, 100_000);
     same_sequences::<3, Walls>(0.2, 100_000);
+}
+
+#[test]
+fn paul_and_binary_heap_calendars_agree_with_neighbour_lists() {
+    same_sequences_with::<3, Periodic>(0.45, 100_000, 0.4);
+    same_sequences_with::<3, Walls>(0.3, 100_000, 0.3);
+    same_sequences_with::<2, Walls>(0.5, 100_000, 0.5);
 }

@@ -1,0 +1,165 @@
+//! Neighbour lists with a skin, the alternative to cell crossings for dense packings (after
+//! F. Smallenburg, Eur. Phys. J. E 45, 22 (2022), arXiv:2201.01100).
+//!
+//! Each particle `i` is confined to a *shell*: a ball of radius `δ/2` around a centre `c_i` (its
+//! position when the shell was drawn). Its list holds every `j` with `|c_i − c_j| < σ_ij + δ`, so
+//! two particles that are not listed cannot touch while both stay in their shells. Leaving the shell
+//! is an event: the particle draws a new shell around its current position, leaves its old
+//! neighbours' lists, joins the new ones' (lists stay symmetric) and predicts against them. Cells
+//! (side ≥ σ_max + δ) are used only for that search, and a particle's cell is the cell of its
+//! centre, so there are no crossing events at all.
+//!
+//! In a dense gas a particle rattles in its cage: it needs many collisions to travel `δ/2`, while a
+//! prediction scans ~10 listed partners instead of the ~23 occupants of 27 cells (3D, φ = 0.45).
+
+use crate::Vector;
+
+/// Per-particle neighbour lists in one flat array of fixed stride, grown when a list overflows.
+#[derive(Debug, Clone)]
+pub(crate) struct NeighbourLists<const D: usize> {
+    /// Skin `δ` (absolute length).
+    pub skin: f64,
+    /// Radius of the shell that triggers a renewal: `δ/2` less a round-off margin.
+    pub shell: f64,
+    /// Shell centres, per slot.
+    pub centre: Vec<Vector<D>>,
+    cap: usize,
+    len: Vec<u32>,
+    items: Vec<u32>,
+}
+
+impl<const D: usize> NeighbourLists<D> {
+    /// Empty lists for `n` particles with skin `skin`.
+    pub fn new(n: usize, skin: f64) -> Self {
+        let cap = 8;
+        NeighbourLists {
+            skin,
+            shell: 0.5 * skin * (1.0 - 1e-6),
+            centre: vec![Vector::<D>::zeros(); n],
+            cap,
+            len: vec![0; n],
+            items: vec![0; n * cap],
+        }
+    }
+
+    /// The neighbours of slot `i`.
+    #[inline(always)]
+    pub fn of(&self, i: usize) -> &[u32] {
+        let start = i * self.cap;
+        &self.items[start..start + self.len[i] as usize]
+    }
+
+    /// Empties every list.
+    pub fn clear(&mut self) {
+        self.len.fill(0);
+    }
+
+    /// Adds `j` to `i`'s list and `i` to `j`'s.
+    #[inline]
+    pub fn link(&mut self, i: usize, j: usize) {
+        if self.len[i] as usize == self.cap || self.len[j] as usize == self.cap {
+            self.grow();
+        }
+        self.push(i, j as u32);
+        self.push(j, i as u32);
+    }
+
+    #[inline(always)]
+    fn push(&mut self, i: usize, j: u32) {
+        let l = self.len[i] as usize;
+        self.items[i * self.cap + l] = j;
+        self.len[i] += 1;
+    }
+
+    /// Removes `j` from `i`'s list (order is not kept).
+    #[inline]
+    fn remove(&mut self, i: usize, j: u32) {
+        let start = i * self.cap;
+        let l = self.len[i] as usize;
+        let list = &mut self.items[start..start + l];
+        if let Some(k) = list.iter().position(|&x| x == j) {
+            list[k] = list[l - 1];
+            self.len[i] -= 1;
+        } else {
+            debug_assert!(
+                false,
+                "neighbour lists out of symmetry: {j} not in {i}'s list"
+            );
+        }
+    }
+
+    /// Takes `i` out of all its neighbours' lists and empties its own.
+    pub fn detach(&mut self, i: usize) {
+        let start = i * self.cap;
+        for k in 0..self.len[i] as usize {
+            let j = self.items[start + k];
+            self.remove(j as usize, i as u32);
+        }
+        self.len[i] = 0;
+    }
+
+    /// Doubles the capacity of every list.
+    fn grow(&mut self) {
+        let cap = 2 * self.cap;
+        let mut items = vec![0u32; self.len.len() * cap];
+        for (i, &l) in self.len.iter().enumerate() {
+            let l = l as usize;
+            items[i * cap..i * cap + l]
+                .copy_from_slice(&self.items[i * self.cap..i * self.cap + l]);
+        }
+        self.items = items;
+        self.cap = cap;
+    }
+
+    /// Renumbers slots: slot `new` takes the old slot `perm[new]`; `inv` is the inverse permutation.
+    pub fn permute(&mut self, perm: &[u32], inv: &[u32]) {
+        let n = self.len.len();
+        let mut items = vec![0u32; n * self.cap];
+        let mut len = vec![0u32; n];
+        let mut centre = vec![Vector::<D>::zeros(); n];
+        for new in 0..n {
+            let old = perm[new] as usize;
+            len[new] = self.len[old];
+            centre[new] = self.centre[old];
+            for k in 0..self.len[old] as usize {
+                items[new * self.cap + k] = inv[self.items[old * self.cap + k] as usize];
+            }
+        }
+        self.items = items;
+        self.len = len;
+        self.centre = centre;
+    }
+
+    /// Heap bytes held by the lists.
+    pub fn heap_bytes(&self) -> usize {
+        4 * (self.items.capacity() + self.len.capacity())
+            + self.centre.capacity() * std::mem::size_of::<Vector<D>>()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lists_stay_symmetric_through_growth_detach_and_permutation() {
+        let mut nl = NeighbourLists::<2>::new(20, 0.3);
+        for j in 1..20 {
+            nl.link(0, j);
+        }
+        nl.link(3, 4);
+        assert_eq!(nl.of(0).len(), 19);
+        assert_eq!(nl.of(4), &[0, 3]);
+        nl.detach(3);
+        assert!(nl.of(3).is_empty());
+        assert_eq!(nl.of(4), &[0]);
+        assert!(!nl.of(0).contains(&3));
+        // Reverse the slots.
+        let perm: Vec<u32> = (0..20).rev().collect();
+        let inv = perm.clone();
+        nl.permute(&perm, &inv);
+        assert_eq!(nl.of(15), &[19]);
+        assert_eq!(nl.of(19).len(), 18);
+        assert!(nl.of(19).contains(&0) && !nl.of(19).contains(&16));
+    }
+}
