@@ -31,7 +31,7 @@ pub(crate) struct NeighbourLists<const D: usize> {
 impl<const D: usize> NeighbourLists<D> {
     /// Empty lists for `n` particles with skin `skin`.
     pub fn new(n: usize, skin: f64) -> Self {
-        let cap = 8;
+        let cap = 16;
         NeighbourLists {
             skin,
             shell: 0.5 * skin * (1.0 - 1e-6),
@@ -98,9 +98,10 @@ impl<const D: usize> NeighbourLists<D> {
         self.len[i] = 0;
     }
 
-    /// Doubles the capacity of every list.
+    /// Widens every list by 16 entries (one cache line): the longest list sets the stride, and
+    /// doubling would waste up to half of it.
     fn grow(&mut self) {
-        let cap = 2 * self.cap;
+        let cap = self.cap + 16;
         let mut items = vec![0u32; self.len.len() * cap];
         for (i, &l) in self.len.iter().enumerate() {
             let l = l as usize;
@@ -112,22 +113,39 @@ impl<const D: usize> NeighbourLists<D> {
     }
 
     /// Renumbers slots: slot `new` takes the old slot `perm[new]`; `inv` is the inverse permutation.
+    /// In place (following the permutation's cycles), so that it needs no second copy of the lists.
     pub fn permute(&mut self, perm: &[u32], inv: &[u32]) {
         let n = self.len.len();
-        let mut items = vec![0u32; n * self.cap];
-        let mut len = vec![0u32; n];
-        let mut centre = vec![Vector::<D>::zeros(); n];
-        for new in 0..n {
-            let old = perm[new] as usize;
-            len[new] = self.len[old];
-            centre[new] = self.centre[old];
-            for k in 0..self.len[old] as usize {
-                items[new * self.cap + k] = inv[self.items[old * self.cap + k] as usize];
+        let cap = self.cap;
+        for i in 0..n {
+            for x in &mut self.items[i * cap..i * cap + self.len[i] as usize] {
+                *x = inv[*x as usize];
             }
         }
-        self.items = items;
-        self.len = len;
-        self.centre = centre;
+        let mut done = vec![false; n];
+        let mut saved = vec![0u32; cap];
+        for start in 0..n {
+            if done[start] {
+                continue;
+            }
+            saved.copy_from_slice(&self.items[start * cap..(start + 1) * cap]);
+            let (saved_len, saved_centre) = (self.len[start], self.centre[start]);
+            let mut cur = start;
+            loop {
+                done[cur] = true;
+                let src = perm[cur] as usize;
+                if src == start {
+                    self.items[cur * cap..(cur + 1) * cap].copy_from_slice(&saved);
+                    self.len[cur] = saved_len;
+                    self.centre[cur] = saved_centre;
+                    break;
+                }
+                self.items.copy_within(src * cap..(src + 1) * cap, cur * cap);
+                self.len[cur] = self.len[src];
+                self.centre[cur] = self.centre[src];
+                cur = src;
+            }
+        }
     }
 
     /// Heap bytes held by the lists.
@@ -143,23 +161,25 @@ mod tests {
 
     #[test]
     fn lists_stay_symmetric_through_growth_detach_and_permutation() {
-        let mut nl = NeighbourLists::<2>::new(20, 0.3);
-        for j in 1..20 {
+        // 39 neighbours of slot 0 make the lists grow twice (16 -> 32 -> 48).
+        let mut nl = NeighbourLists::<2>::new(40, 0.3);
+        for j in 1..40 {
             nl.link(0, j);
         }
         nl.link(3, 4);
-        assert_eq!(nl.of(0).len(), 19);
+        assert_eq!(nl.of(0).len(), 39);
+        assert_eq!(nl.of(0), (1..40).collect::<Vec<u32>>().as_slice());
         assert_eq!(nl.of(4), &[0, 3]);
         nl.detach(3);
         assert!(nl.of(3).is_empty());
         assert_eq!(nl.of(4), &[0]);
         assert!(!nl.of(0).contains(&3));
         // Reverse the slots.
-        let perm: Vec<u32> = (0..20).rev().collect();
+        let perm: Vec<u32> = (0..40).rev().collect();
         let inv = perm.clone();
         nl.permute(&perm, &inv);
-        assert_eq!(nl.of(15), &[19]);
-        assert_eq!(nl.of(19).len(), 18);
-        assert!(nl.of(19).contains(&0) && !nl.of(19).contains(&16));
+        assert_eq!(nl.of(35), &[39]);
+        assert_eq!(nl.of(39).len(), 38);
+        assert!(nl.of(39).contains(&38) && !nl.of(39).contains(&36));
     }
 }

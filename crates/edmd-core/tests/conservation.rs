@@ -35,6 +35,34 @@ fn energy_over_ten_million_collisions_with_walls() {
     assert!(overlap < 1e-9);
 }
 
+/// Neighbour lists (the default for dense 3D packings) conserve as exactly as cell crossings.
+#[test]
+fn neighbour_lists_conserve_energy_and_momentum() {
+    fn run<B: Boundary>(label: &str) {
+        let mut p = InitParams::<3>::with_packing(4000, 0.45).unwrap();
+        p.seed = 9;
+        let mut sim = p.build::<B, _>(Elastic).unwrap();
+        assert!(sim.uses_neighbour_lists());
+        let start = sim.observe();
+        sim.run(Stop::Tau(500.0));
+        let end = sim.observe();
+        let de = ((end.kinetic_energy - start.kinetic_energy) / start.kinetic_energy).abs();
+        let dp = (end.momentum - start.momentum).norm() / end.momentum_scale;
+        let overlap = sim.deepest_overlap().unwrap().2;
+        println!(
+            "{label}: 2e6 collisions, {:.2} shell exits per collision, |dE/E| = {de:.3e}, |dP|/sum|p| = {dp:.3e}, deepest overlap {overlap:.2e}",
+            sim.counters().crossings as f64 / sim.counters().pair_collisions as f64
+        );
+        assert!(de < 1e-10, "{label}: energy drift {de:e}");
+        assert!(overlap < 1e-9, "{label}: overlap {overlap:e}");
+        if !B::is_wall(0) {
+            assert!(dp < 1e-12, "{label}: momentum drift {dp:e}");
+        }
+    }
+    run::<Periodic>("3D periodic phi 0.45, neighbour lists");
+    run::<Walls>("3D walls phi 0.45, neighbour lists");
+}
+
 /// Inelastic collisions conserve momentum too, and never create energy.
 #[test]
 fn inelastic_collisions_conserve_momentum_and_lose_energy() {

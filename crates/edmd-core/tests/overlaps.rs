@@ -4,7 +4,7 @@
 
 use edmd_core::{
     Boundary, Channel, CollisionRule, ConstantRestitution, Elastic, InitParams, Periodic,
-    Placement, RandomRotation, RunEnd, Simulation, Stop, ThresholdRestitution, Walls,
+    Placement, RandomRotation, RunEnd, SimParams, Simulation, Stop, ThresholdRestitution, Walls,
 };
 
 fn check<const D: usize, B: Boundary, R: CollisionRule>(
@@ -104,6 +104,29 @@ fn random_rotation_remedy() {
         300_000,
         "3D walls phi=0.3, eps=0.5 + rotation",
     );
+}
+
+#[test]
+fn neighbour_lists() {
+    let mut p = InitParams::<2>::with_packing(2000, 0.7).unwrap();
+    p.sim = Some(SimParams {
+        neighbour_skin: 0.5,
+        ..SimParams::for_density::<2>(0.7)
+    });
+    let sim = p.build::<Walls, _>(eps(0.6)).unwrap();
+    assert!(sim.uses_neighbour_lists());
+    check(sim, 300_000, "2D walls phi=0.7 eps=0.6, neighbour lists");
+    let n = 2000;
+    let mut p = InitParams::<3>::with_packing(n, 0.25).unwrap();
+    p.radii = Some((0..n).map(|i| 0.25 + 0.25 * (i % 5) as f64 / 4.0).collect());
+    p.placement = Placement::Random;
+    p.sim = Some(SimParams {
+        neighbour_skin: 0.3,
+        ..SimParams::for_density::<3>(0.25)
+    });
+    let sim = p.build::<Periodic, _>(eps(0.5)).unwrap();
+    assert!(sim.uses_neighbour_lists());
+    check(sim, 300_000, "3D polydisperse eps=0.5, neighbour lists");
 }
 
 #[test]
