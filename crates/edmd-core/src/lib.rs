@@ -8,7 +8,8 @@
 //! * **Calendar**: O(1) amortised bucket queue after G. Paul, J. Comput. Phys. 221, 615 (2007)
 //!   ([`PaulCalendar`]); a `BinaryHeap` version ([`HeapCalendar`]) is the oracle and baseline.
 //! * **Cells**: a grid with side ≥ the largest diameter; a crossing searches only the newly adjacent
-//!   cells ([`CellGrid`]).
+//!   cells ([`CellGrid`]). Dense 3D packings use neighbour lists with a skin instead ([`nlist`],
+//!   [`SimParams::neighbour_skin`]).
 //! * **Scenes**: periodic, walled, or mixed per axis, each a zero-sized type ([`Boundary`]).
 //! * **Numerics**: cancellation-free contact roots, no event ever in the past, overlapping-and-
 //!   approaching pairs collide at once, and the clock is rebased every few N events.

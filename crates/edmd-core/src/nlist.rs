@@ -140,7 +140,8 @@ impl<const D: usize> NeighbourLists<D> {
                     self.centre[cur] = saved_centre;
                     break;
                 }
-                self.items.copy_within(src * cap..(src + 1) * cap, cur * cap);
+                self.items
+                    .copy_within(src * cap..(src + 1) * cap, cur * cap);
                 self.len[cur] = self.len[src];
                 self.centre[cur] = self.centre[src];
                 cur = src;

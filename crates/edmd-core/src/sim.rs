@@ -11,6 +11,9 @@
 //! collision both partners are predicted against their whole 3^D neighbourhood; after a crossing the
 //! particle keeps its still-valid candidate and searches only the 3^(D−1) newly adjacent cells.
 //!
+//! With neighbour lists ([`crate::nlist`]) the auxiliary event is the exit from the particle's shell
+//! (or a wall contact), and a full prediction scans the particle's list instead of its cells.
+//!
 //! Time is a local clock, rebased to zero every few `N` events together with a re-tuning of the
 //! calendar's bucket width; [`Simulation::time`] adds the rebased epochs back.
 

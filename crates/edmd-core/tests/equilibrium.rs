@@ -1,6 +1,7 @@
 //! Equilibrium hard disks and spheres against kinetic theory (PHYSICS.md §1): the contact value χ
 //! inverted from the collision rate and from the collision virial must agree with Luding's χ (2D,
-//! within 0.3 %) and Carnahan–Starling (3D, within 0.5 %).
+//! within 0.3 %) and Carnahan–Starling (3D, within 0.5 %). The 3D case at φ = 0.45 runs on neighbour
+//! lists, all others on cell crossings.
 //!
 //! CI runs N = 4000 for τ = 1000 after 50 of equilibration; `EDMD_VALIDATE=1` (used by
 //! `make validate`) runs N = 10^4 for τ = 2000. The statistical error is estimated from 10 blocks and
@@ -35,6 +36,8 @@ fn check<const D: usize>(phi: f64, tolerance: f64) {
     let mut p = InitParams::<D>::with_packing(n, phi).unwrap();
     p.seed = 42;
     let mut sim = p.build::<Periodic, _>(Elastic).unwrap();
+    // The default neighbour strategy: lists for dense spheres, cell crossings elsewhere.
+    assert_eq!(sim.uses_neighbour_lists(), D == 3 && phi >= 0.38);
     sim.run(Stop::Tau(50.0));
     let blocks = 10;
     let (mut from_nu, mut from_z) = (Vec::new(), Vec::new());
@@ -99,4 +102,10 @@ fn spheres_phi_0_20() {
 #[test]
 fn spheres_phi_0_35() {
     check::<3>(0.35, 0.005);
+}
+
+/// φ = 0.45 runs on neighbour lists (the default there), the other cases on cell crossings.
+#[test]
+fn spheres_phi_0_45_neighbour_lists() {
+    check::<3>(0.45, 0.005);
 }
