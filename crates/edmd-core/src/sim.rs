@@ -1209,10 +1209,11 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         let pos_i = pi.r0 + pi.vel * now;
         let vi2 = pi.vel.norm_squared();
         let list = nl.of(i);
-        for (k, &j) in list.iter().enumerate() {
-            if let Some(&next) = list.get(k + 1) {
-                crate::prefetch::prefetch(&self.particles[next as usize]);
-            }
+        // Ask for every partner's cache line at once: their loads then overlap.
+        for &j in list {
+            crate::prefetch::prefetch(&self.particles[j as usize]);
+        }
+        for &j in list {
             let pj = &self.particles[j as usize];
             let pos_j = pj.r0 + pj.vel * now;
             // The nearest image, written exactly as `collide` writes it.
