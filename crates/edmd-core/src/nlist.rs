@@ -21,6 +21,8 @@ pub(crate) struct NeighbourLists<const D: usize> {
     pub skin: f64,
     /// Radius of the shell that triggers a renewal: `δ/2` less a round-off margin.
     pub shell: f64,
+    /// The largest centre distance that is listed: largest diameter + `δ`.
+    pub max_reach: f64,
     /// Shell centres, per slot.
     pub centre: Vec<Vector<D>>,
     cap: usize,
@@ -29,12 +31,13 @@ pub(crate) struct NeighbourLists<const D: usize> {
 }
 
 impl<const D: usize> NeighbourLists<D> {
-    /// Empty lists for `n` particles with skin `skin`.
-    pub fn new(n: usize, skin: f64) -> Self {
+    /// Empty lists for `n` particles with skin `skin` and largest diameter `max_d`.
+    pub fn new(n: usize, skin: f64, max_d: f64) -> Self {
         let cap = 16;
         NeighbourLists {
             skin,
             shell: 0.5 * skin * (1.0 - 1e-6),
+            max_reach: max_d + skin,
             centre: vec![Vector::<D>::zeros(); n],
             cap,
             len: vec![0; n],
@@ -163,7 +166,7 @@ mod tests {
     #[test]
     fn lists_stay_symmetric_through_growth_detach_and_permutation() {
         // 39 neighbours of slot 0 make the lists grow twice (16 -> 32 -> 48).
-        let mut nl = NeighbourLists::<2>::new(40, 0.3);
+        let mut nl = NeighbourLists::<2>::new(40, 0.3, 1.0);
         for j in 1..40 {
             nl.link(0, j);
         }

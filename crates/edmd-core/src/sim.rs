@@ -378,7 +378,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             .then(|| CellGrid::new(&box_len, max_d + skin, max_d * params.cell_factor, n).ok())
             .flatten();
         let (grid, nl) = match list_grid {
-            Some(g) => (g, Some(NeighbourLists::new(n, skin))),
+            Some(g) => (g, Some(NeighbourLists::new(n, skin, max_d))),
             None => (
                 CellGrid::new(&box_len, max_d, max_d * params.cell_factor, n)?,
                 None,
@@ -1115,17 +1115,42 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         let ci = self.meta[i].cell;
         let centre = nl.centre[i];
         let ri = self.particles[i].radius;
+        // Squared distance from the centre to the lower and upper face of its cell, per axis: a
+        // neighbour cell farther than the largest reach cannot hold a neighbour (in 3D about a
+        // quarter of the 27, mostly corners, for a centre anywhere in its cell).
+        let mut face2 = [[0.0; 3]; D];
+        for a in 0..D {
+            let lo = ci[a] as f64 * self.grid.side[a];
+            face2[a][0] = (centre[a] - lo).powi(2);
+            face2[a][2] = (lo + self.grid.side[a] - centre[a]).powi(2);
+        }
+        let far = nl.max_reach * nl.max_reach * (1.0 + 1e-9);
+        let out_of_reach = |code: usize| {
+            let mut rest = code;
+            let mut d2 = 0.0;
+            for f in &face2 {
+                d2 += f[rest % 3];
+                rest /= 3;
+            }
+            d2 > far
+        };
         // The first member of each neighbour cell, all loads started before any list is walked.
         let mut firsts = [NONE; 27];
         let mut count = 0;
         if self.grid.is_interior(&ci) {
             let c = self.grid.index(&ci) as isize;
-            for &o in &self.grid.full {
+            for (code, &o) in self.grid.full.iter().enumerate() {
+                if out_of_reach(code) {
+                    continue;
+                }
                 firsts[count] = self.grid.first((c + o) as usize);
                 count += 1;
             }
         } else {
             'cells: for code in 0..3usize.pow(D as u32) {
+                if out_of_reach(code) {
+                    continue;
+                }
                 let mut rest = code;
                 let mut idx = 0;
                 for a in 0..D {

@@ -138,10 +138,11 @@ fn check<const D: usize, B: Boundary, R: CollisionRule>(
     }
     if std::env::var_os("EDMD_FUZZ_VERBOSE").is_some() {
         eprintln!(
-            "ran: {} events, {} collisions, log10 E/E0 = {:.1}",
+            "ran: {} events, {} collisions, log10 E/E0 = {:.1}, neighbour lists {}",
             sim.counters().events,
             sim.counters().pair_collisions,
-            (last / energy_at_start).log10()
+            (last / energy_at_start).log10(),
+            sim.uses_neighbour_lists()
         );
     }
     Ok(())
