@@ -907,17 +907,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         // The image of j nearest to i, and the separation written exactly as `search` writes it, so
         // that the approach test below and the prediction agree to the last bit: a pair found
         // approaching is treated as approaching, and one found receding is never predicted again.
-        let mut ri = pos_i;
-        for a in 0..D {
-            if !B::is_wall(a) {
-                let d = pos_i[a] - pos_j[a];
-                if d > self.half_box[a] {
-                    ri[a] -= self.box_len[a];
-                } else if d < -self.half_box[a] {
-                    ri[a] += self.box_len[a];
-                }
-            }
-        }
+        let ri = self.image_near(&pos_i, &pos_j);
         let dr = ri - (pj.r0 + pj.vel * now);
         let dv = pi.vel - pj.vel;
         let b = dr.dot(&dv);
@@ -1066,6 +1056,25 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         self.store(i, t, partner);
     }
 
+    /// `x` moved by a box length on each periodic axis where that brings it nearer to `y` (the
+    /// minimum image of `x − y` is then the plain difference). `collide` and the neighbour-list
+    /// search both take images this way, so that they agree to the last bit.
+    #[inline(always)]
+    fn image_near(&self, x: &Vector<D>, y: &Vector<D>) -> Vector<D> {
+        let mut r = *x;
+        for a in 0..D {
+            if !B::is_wall(a) {
+                let d = x[a] - y[a];
+                if d > self.half_box[a] {
+                    r[a] -= self.box_len[a];
+                } else if d < -self.half_box[a] {
+                    r[a] += self.box_len[a];
+                }
+            }
+        }
+        r
+    }
+
     /// Neighbour-list mode: draws every shell around the particle's current position, files each
     /// particle in the cell of its centre and fills all lists from scratch.
     fn build_lists(&mut self) {
@@ -1185,16 +1194,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                 if j == i || (later_only && j < i) {
                     continue;
                 }
-                let mut d = centre - nl.centre[j];
-                for a in 0..D {
-                    if !B::is_wall(a) {
-                        if d[a] > self.half_box[a] {
-                            d[a] -= self.box_len[a];
-                        } else if d[a] < -self.half_box[a] {
-                            d[a] += self.box_len[a];
-                        }
-                    }
-                }
+                let d = self.image_near(&centre, &nl.centre[j]) - nl.centre[j];
                 let reach = ri + pj.radius + nl.skin;
                 if d.norm_squared() < reach * reach {
                     nl.link(i, j);
@@ -1241,19 +1241,8 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         for &j in list {
             let pj = &self.particles[j as usize];
             let pos_j = pj.r0 + pj.vel * now;
-            // The nearest image, written exactly as `collide` writes it.
-            let mut ri = pos_i;
-            for a in 0..D {
-                if !B::is_wall(a) {
-                    let d = pos_i[a] - pos_j[a];
-                    if d > self.half_box[a] {
-                        ri[a] -= self.box_len[a];
-                    } else if d < -self.half_box[a] {
-                        ri[a] += self.box_len[a];
-                    }
-                }
-            }
-            let dr = ri - pos_j;
+            // The nearest image, exactly as `collide` takes it.
+            let dr = self.image_near(&pos_i, &pos_j) - pos_j;
             let dv = pi.vel - pj.vel;
             let t = now + pair_time(&dr, &dv, pi.radius + pj.radius, vi2 + pj.vel.norm_squared());
             if t < best.0 {
