@@ -158,6 +158,30 @@ impl<const D: usize> CellGrid<D> {
         idx
     }
 
+    /// Linear index of the neighbour of cell `c` at offset code `code` ∈ [0, 3^D) (digit `a` in base 3
+    /// is the offset along axis `a`, plus one, the order of [`CellGrid::full`]), wrapping periodic
+    /// axes; `None` where the offset leaves the box through a wall (`wall(a)` true).
+    #[inline]
+    pub fn neighbour(
+        &self,
+        c: &[u32; D],
+        code: usize,
+        wall: impl Fn(usize) -> bool,
+    ) -> Option<usize> {
+        let mut rest = code;
+        let mut idx = 0;
+        for a in 0..D {
+            let n = self.n[a] as i32;
+            let x = c[a] as i32 + (rest % 3) as i32 - 1;
+            rest /= 3;
+            if (x < 0 || x >= n) && wall(a) {
+                return None;
+            }
+            idx += x.rem_euclid(n) as usize * self.stride[a];
+        }
+        Some(idx)
+    }
+
     /// First member of cell `idx`, or [`NONE`].
     #[inline(always)]
     pub fn first(&self, idx: usize) -> u32 {
@@ -219,6 +243,19 @@ mod tests {
         let g = CellGrid::<3>::new(&vector![10.5, 7.0, 3.2], 1.0, 0.5, 1).unwrap();
         assert_eq!(g.n, [10, 7, 3]);
         assert!(g.side.iter().all(|&s| s >= 1.0));
+    }
+
+    #[test]
+    fn neighbours_wrap_periodic_axes_and_stop_at_walls() {
+        let g = CellGrid::<2>::new(&vector![4.0, 3.0], 1.0, 1.0, 1).unwrap();
+        // Cell (0, 2); code 0 is offset (-1, -1), code 8 is (+1, +1), code 4 the cell itself.
+        let c = [0, 2];
+        assert_eq!(g.neighbour(&c, 4, |_| false), Some(2 * 4));
+        assert_eq!(g.neighbour(&c, 0, |_| false), Some(3 + 4));
+        assert_eq!(g.neighbour(&c, 8, |_| false), Some(1));
+        assert_eq!(g.neighbour(&c, 0, |a| a == 0), None);
+        assert_eq!(g.neighbour(&c, 8, |a| a == 1), None);
+        assert_eq!(g.neighbour(&c, 5, |a| a == 1), Some(2 * 4 + 1));
     }
 
     #[test]

@@ -1156,23 +1156,14 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                 count += 1;
             }
         } else {
-            'cells: for code in 0..3usize.pow(D as u32) {
+            for code in 0..3usize.pow(D as u32) {
                 if out_of_reach(code) {
                     continue;
                 }
-                let mut rest = code;
-                let mut idx = 0;
-                for a in 0..D {
-                    let n = self.grid.n[a] as i32;
-                    let x = ci[a] as i32 + (rest % 3) as i32 - 1;
-                    rest /= 3;
-                    if (x < 0 || x >= n) && B::is_wall(a) {
-                        continue 'cells;
-                    }
-                    idx += x.rem_euclid(n) as usize * self.grid.stride[a];
+                if let Some(idx) = self.grid.neighbour(&ci, code, B::is_wall) {
+                    firsts[count] = self.grid.first(idx);
+                    count += 1;
                 }
-                firsts[count] = self.grid.first(idx);
-                count += 1;
             }
         }
         for &k in &firsts[..count] {
@@ -1597,23 +1588,9 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         for i in 0..self.len() {
             let ci = self.meta[i].cell;
             for code in 0..3usize.pow(D as u32) {
-                let mut rest = code;
-                let mut idx = 0;
-                let mut ok = true;
-                for a in 0..D {
-                    let off = (rest % 3) as i32 - 1;
-                    rest /= 3;
-                    let n = self.grid.n[a] as i32;
-                    let x = ci[a] as i32 + off;
-                    if (x < 0 || x >= n) && B::is_wall(a) {
-                        ok = false;
-                        break;
-                    }
-                    idx += x.rem_euclid(n) as usize * self.grid.stride[a];
-                }
-                if !ok {
+                let Some(idx) = self.grid.neighbour(&ci, code, B::is_wall) else {
                     continue;
-                }
+                };
                 let mut k = self.grid.first(idx);
                 while k != NONE {
                     let k_ = k as usize;
