@@ -1042,8 +1042,15 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         let new = self.grid.index(&self.meta[i].cell);
         self.grid.remove(&mut self.particles, i as u32, old);
         self.grid.insert(&mut self.particles, i as u32, new);
+        // Only the cells that just became adjacent need a search, unless the candidate went stale.
+        // Every pair a search has seen keeps a bound: since the last trajectory change of either
+        // particle, one of the two searched the other (a velocity change is always followed by a
+        // full search), so its stored candidate time is no later than their contact. A valid
+        // candidate is thus still the earliest among the old neighbours, and no candidate at all
+        // (the common case in a gas) means no old neighbour will be touched; only a stale one
+        // loses the bound and calls for a full search.
         let e = self.meta[i].ev;
-        let valid = e.partner != NONE && self.meta[e.partner as usize].counter == e.partner_count;
+        let valid = e.partner == NONE || self.meta[e.partner as usize].counter == e.partner_count;
         let (t, partner) = if valid {
             self.search(
                 i,

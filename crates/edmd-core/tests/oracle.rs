@@ -62,8 +62,12 @@ fn with_skin<const D: usize>(p: &mut InitParams<D>, phi: f64, skin: f64) {
 
 fn check_against_brute_force<const D: usize>(phi: f64, skin: f64) {
     let mut p = InitParams::<D>::with_packing(200, phi).unwrap();
-    p.seed = 7;
     with_skin(&mut p, phi, skin);
+    check_built_against_brute_force(p, &format!("skin {skin}"));
+}
+
+fn check_built_against_brute_force<const D: usize>(mut p: InitParams<D>, label: &str) {
+    p.seed = 7;
     let mut sim = p.build::<Periodic, _>(Elastic).unwrap();
     let box_len = *sim.box_len();
     let mut worst: f64 = 0.0;
@@ -81,7 +85,7 @@ fn check_against_brute_force<const D: usize>(phi: f64, skin: f64) {
             sim.time()
         );
     }
-    println!("D = {D}, skin {skin}: 10^4 collisions match, worst relative time error {worst:.2e}");
+    println!("D = {D}, {label}: 10^4 collisions match, worst relative time error {worst:.2e}");
 }
 
 #[test]
@@ -92,6 +96,23 @@ fn first_ten_thousand_collisions_match_brute_force_2d() {
 #[test]
 fn first_ten_thousand_collisions_match_brute_force_3d() {
     check_against_brute_force::<3>(0.2, 0.0);
+}
+
+/// A dilute gas in cells of one diameter: a particle crosses many cells between collisions, and
+/// most crossings find it with no collision candidate, when only the newly adjacent cells are
+/// searched.
+#[test]
+fn dilute_gas_in_small_cells_matches_brute_force() {
+    fn small_cells<const D: usize>(phi: f64) -> InitParams<D> {
+        let mut p = InitParams::<D>::with_packing(200, phi).unwrap();
+        p.sim = Some(SimParams {
+            cell_factor: 1.0,
+            ..SimParams::default()
+        });
+        p
+    }
+    check_built_against_brute_force(small_cells::<2>(0.05), "phi 0.05, cells of one diameter");
+    check_built_against_brute_force(small_cells::<3>(0.05), "phi 0.05, cells of one diameter");
 }
 
 #[test]
