@@ -1,6 +1,7 @@
 //! Event statistics of a short elastic run: events, crossings and stale events per pair collision.
 //! `cargo run --release -p edmd-core --example profile -- D N PHI` (environment: `TAU` run length,
-//! `SKIN` neighbour-list skin in diameters, 0 for cells)
+//! `SKIN` neighbour-list skin in diameters, 0 for cells; `CELL` cell side in diameters; defaults
+//! from `SimParams::for_density`)
 use edmd_core::{Elastic, InitParams, Periodic, SimParams, Stop};
 
 fn main() {
@@ -18,12 +19,15 @@ fn main() {
 fn go<const D: usize>(n: usize, phi: f64) {
     let mut p = InitParams::<D>::with_packing(n, phi).unwrap();
     p.melt_tau = Some(5.0);
-    if let Some(skin) = std::env::var("SKIN").ok().and_then(|s| s.parse().ok()) {
-        p.sim = Some(SimParams {
-            neighbour_skin: skin,
-            ..SimParams::for_density::<D>(phi)
-        });
+    let env = |name: &str| std::env::var(name).ok().and_then(|s| s.parse::<f64>().ok());
+    let mut sim_params = SimParams::for_density::<D>(phi);
+    if let Some(skin) = env("SKIN") {
+        sim_params.neighbour_skin = skin;
     }
+    if let Some(factor) = env("CELL") {
+        sim_params.cell_factor = factor;
+    }
+    p.sim = Some(sim_params);
     let mut sim = p.build::<Periodic, _>(Elastic).unwrap();
     let e0 = sim.counters().events;
     let start = std::time::Instant::now();
