@@ -9,7 +9,8 @@
 //!    decreasing ln T and no overlaps. (That box is 7.5 L⊥ wide: it shears and clusters, after which
 //!    the energy decays only as a power of τ (Brito & Ernst 1998), to ~1e-5 at τ = 2000, far from
 //!    the homogeneous e^{−0.646 τ}.) Its clusters undergo inelastic collapse without a remedy (in
-//!    8 of the 12 seeds 2–13, between τ = 250 and 1500; which seeds do is chaos, i.e. round-off),
+//!    8 to 10 of the 12 seeds 2–13, between τ = 175 and 1500; which seeds do changes with any
+//!    change of round-off, such as who of a pair predicts their contact),
 //!    so it runs under the TC model with t_c = 10^−4 mean free times at T0, the remedy
 //!    docs/benchmarks.md measures as unbiased (PHYSICS.md §6.4).
 
