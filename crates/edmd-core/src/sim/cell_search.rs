@@ -1,0 +1,242 @@
+//! Cell mode: collision search over the 3^D neighbour cells, the next crossing or wall contact, and
+//! the crossing itself.
+
+use super::{Aux, Cells, Simulation};
+use crate::calendar::Calendar;
+use crate::cells::NONE;
+use crate::predict::{fall_time, pair_time, reach_time, rise_time};
+use crate::{Boundary, CollisionRule, Particle, Vector};
+
+impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B, R, C> {
+    /// Earliest contact of particle `i` (at now) with the members of its neighbour cells; with
+    /// `only = Some((axis, dir))`, just the cells at offset `dir` along `axis`.
+    #[inline]
+    pub(super) fn search_cells(
+        &self,
+        i: usize,
+        only: Option<(usize, i32)>,
+        mut best: (f64, u32),
+    ) -> (f64, u32) {
+        let pi = self.particles[i];
+        let pos_i = pi.r0 + pi.vel * self.now;
+        let ci = self.meta[i].cell;
+        if self.grid.is_interior(&ci) {
+            // Interior cell (the common case): fixed offsets, no periodic images.
+            let center = self.grid.index(&ci) as isize;
+            let offsets = match only {
+                None => &self.grid.full,
+                Some((axis, dir)) => &self.grid.partial[2 * axis + (dir > 0) as usize],
+            };
+            for &o in offsets {
+                best = self.scan_cell((center + o) as usize, i, &pi, &pos_i, best);
+            }
+            return best;
+        }
+        // Per axis: the neighbour rows to visit, as linear-index contribution and image shift.
+        let mut lin = [[0usize; 3]; D];
+        let mut sh = [[0.0f64; 3]; D];
+        let mut count = [0usize; D];
+        for a in 0..D {
+            let n = self.grid.n[a] as i32;
+            for off in -1..=1 {
+                if matches!(only, Some((axis, dir)) if axis == a && off != dir) {
+                    continue;
+                }
+                let mut x = ci[a] as i32 + off;
+                let mut s = 0.0;
+                if x < 0 {
+                    if B::is_wall(a) {
+                        continue;
+                    }
+                    x += n;
+                    s = -self.box_len[a];
+                } else if x >= n {
+                    if B::is_wall(a) {
+                        continue;
+                    }
+                    x -= n;
+                    s = self.box_len[a];
+                }
+                lin[a][count[a]] = x as usize * self.grid.stride[a];
+                sh[a][count[a]] = s;
+                count[a] += 1;
+            }
+            if count[a] == 0 {
+                return best;
+            }
+        }
+        let mut digit = [0usize; D];
+        loop {
+            let mut idx = 0;
+            let mut ri = pos_i;
+            for a in 0..D {
+                idx += lin[a][digit[a]];
+                ri[a] -= sh[a][digit[a]];
+            }
+            best = self.scan_cell(idx, i, &pi, &ri, best);
+            let mut a = 0;
+            loop {
+                digit[a] += 1;
+                if digit[a] < count[a] {
+                    break;
+                }
+                digit[a] = 0;
+                a += 1;
+                if a == D {
+                    return best;
+                }
+            }
+        }
+    }
+
+    /// Earliest contact of particle `i` (state `pi`, position image `ri`) with the members of cell `idx`.
+    #[inline(always)]
+    pub(super) fn scan_cell(
+        &self,
+        idx: usize,
+        i: usize,
+        pi: &Particle<D>,
+        ri: &Vector<D>,
+        mut best: (f64, u32),
+    ) -> (f64, u32) {
+        let now = self.now;
+        let vi2 = pi.vel.norm_squared();
+        let mut k = self.grid.first(idx);
+        while k != NONE {
+            let pk = &self.particles[k as usize];
+            let next = pk.next_in_cell;
+            if next != NONE {
+                crate::prefetch::prefetch(&self.particles[next as usize]);
+            }
+            let dr = ri - (pk.r0 + pk.vel * now);
+            let dv = pi.vel - pk.vel;
+            let t = now + pair_time(&dr, &dv, pi.radius + pk.radius, vi2 + pk.vel.norm_squared());
+            if t < best.0 && k as usize != i {
+                best = (t, k);
+            }
+            k = next;
+        }
+        best
+    }
+
+    /// Next cell crossing or wall contact of particle `i` (at now).
+    #[inline]
+    pub(super) fn aux_event_cells(&self, i: usize) -> (f64, Aux) {
+        let p = &self.particles[i];
+        let c = &self.meta[i].cell;
+        let mut best = (f64::INFINITY, Aux::Crossing { axis: 0, up: false });
+        if B::GRAVITY {
+            // The last axis: a parabola, which may turn before the upper face and always falls.
+            let a = D - 1;
+            let g = self.params.gravity;
+            let now = self.now;
+            let x = p.r0[a] + p.vel[a] * now - 0.5 * g * now * now;
+            let u = p.vel[a] - g * now;
+            let top = c[a] as usize + 1 == self.grid.n[a];
+            let axis = a as u8;
+            let (up_target, up_code) = if top {
+                (self.box_len[a] - p.radius, Aux::Wall { axis, up: true })
+            } else {
+                (
+                    (c[a] + 1) as f64 * self.grid.side[a],
+                    Aux::Crossing { axis, up: true },
+                )
+            };
+            let (down_target, down_code) = if c[a] == 0 {
+                (p.radius, Aux::Wall { axis, up: false })
+            } else {
+                (
+                    c[a] as f64 * self.grid.side[a],
+                    Aux::Crossing { axis, up: false },
+                )
+            };
+            let t_up = rise_time(x, u, g, up_target);
+            let t_down = fall_time(x, u, g, down_target);
+            best = if t_up < t_down {
+                (now + t_up, up_code)
+            } else {
+                (now + t_down, down_code)
+            };
+        }
+        for a in 0..D {
+            if B::GRAVITY && a == D - 1 {
+                continue;
+            }
+            let v = p.vel[a];
+            let up = v > 0.0;
+            if v == 0.0 {
+                continue;
+            }
+            let edge = if up {
+                c[a] as usize + 1 == self.grid.n[a]
+            } else {
+                c[a] == 0
+            };
+            let (dt, code) = if B::is_wall(a) && edge {
+                let target = if up {
+                    self.box_len[a] - p.radius
+                } else {
+                    p.radius
+                };
+                (
+                    reach_time(p.r0[a] + v * self.now, v, target),
+                    Aux::Wall { axis: a as u8, up },
+                )
+            } else {
+                let face = (c[a] + up as u32) as f64 * self.grid.side[a];
+                (
+                    reach_time(p.r0[a] + v * self.now, v, face),
+                    Aux::Crossing { axis: a as u8, up },
+                )
+            };
+            let t = self.now + dt;
+            if t < best.0 {
+                best = (t, code);
+            }
+        }
+        best
+    }
+
+    /// Moves particle `i` into the neighbouring cell along `axis` and searches the new neighbours.
+    #[inline]
+    pub(super) fn cross(&mut self, i: usize, axis: usize, up: bool) {
+        self.counters.crossings += 1;
+        let old = self.grid.index(&self.meta[i].cell);
+        let n = self.grid.n[axis] as u32;
+        let c = &mut self.meta[i].cell[axis];
+        if up {
+            *c += 1;
+            if *c == n {
+                *c = 0;
+                self.particles[i].r0[axis] -= self.box_len[axis];
+            }
+        } else if *c == 0 {
+            *c = n - 1;
+            self.particles[i].r0[axis] += self.box_len[axis];
+        } else {
+            *c -= 1;
+        }
+        let new = self.grid.index(&self.meta[i].cell);
+        self.grid.remove(&mut self.particles, i as u32, old);
+        self.grid.insert(&mut self.particles, i as u32, new);
+        // Only the cells that just became adjacent need a search, unless the candidate went stale.
+        // Every pair a search has seen keeps a bound: since the last trajectory change of either
+        // particle, one of the two searched the other (a velocity change is always followed by a
+        // full search), so its stored candidate time is no later than their contact. A valid
+        // candidate is thus still the earliest among the old neighbours, and no candidate at all
+        // (the common case in a gas) means no old neighbour will be touched; only a stale one
+        // loses the bound and calls for a full search.
+        let e = self.meta[i].ev;
+        let valid = e.partner == NONE || self.meta[e.partner as usize].counter == e.partner_count;
+        let (t, partner) = if valid {
+            self.search_cells(
+                i,
+                Some((axis, if up { 1 } else { -1 })),
+                (e.coll_t, e.partner),
+            )
+        } else {
+            self.search_cells(i, None, (f64::INFINITY, NONE))
+        };
+        self.store::<Cells>(i, t, partner);
+    }
+}

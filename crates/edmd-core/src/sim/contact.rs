@@ -1,0 +1,226 @@
+//! Contacts: the pair collision (normal impulse, rough tangential part, random rotation) and the wall.
+
+use nalgebra::Vector3;
+use rand_xoshiro::Xoshiro256PlusPlus;
+
+use super::Simulation;
+use crate::calendar::Calendar;
+use crate::predict::approaching;
+use crate::{Boundary, CollisionRule, Vector};
+
+impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B, R, C> {
+    /// Applies the collision rule to the touching pair `(i, j)`.
+    #[inline]
+    pub(super) fn collide(&mut self, i: usize, j: usize) {
+        let (pi, pj) = (self.particles[i], self.particles[j]);
+        let now = self.now;
+        let (pos_i, pos_j) = (pi.r0 + pi.vel * now, pj.r0 + pj.vel * now);
+        // The image of j nearest to i, and the separation written exactly as `search` writes it, so
+        // that the approach test below and the prediction agree to the last bit: a pair found
+        // approaching is treated as approaching, and one found receding is never predicted again.
+        let ri = self.image_near(&pos_i, &pos_j);
+        let dr = ri - (pj.r0 + pj.vel * now);
+        let dv = pi.vel - pj.vel;
+        let b = dr.dot(&dv);
+        if !approaching(
+            b,
+            dr.norm_squared(),
+            pi.vel.norm_squared() + pj.vel.norm_squared(),
+        ) {
+            // Round-off turned a grazing contact into a separation: nothing to exchange.
+            return;
+        }
+        let dist = dr.norm();
+        let normal = dr / dist;
+        let gn = b / dist;
+        let (mi, mj) = (self.meta[i].mass, self.meta[j].mass);
+        let m_eff = mi * mj / (mi + mj);
+        let r_eff = pi.radius * pj.radius / (pi.radius + pj.radius);
+        let t_phys = self.time();
+        let (si, sj) = if i < j {
+            let (lo, hi) = self.rule_state.split_at_mut(j);
+            (&mut lo[i], &mut hi[0])
+        } else {
+            let (lo, hi) = self.rule_state.split_at_mut(i);
+            (&mut hi[0], &mut lo[j])
+        };
+        let eps = self
+            .rule
+            .restitution_at(-gn * self.inv_scale, m_eff, r_eff, t_phys, si, sj);
+        let impulse = -(1.0 + eps) * gn * m_eff;
+        // New velocities, and the trajectories' origins moved so that positions stay put at `now`.
+        let (mut vi, mut vj) = (
+            pi.vel + normal * (impulse / mi),
+            pj.vel - normal * (impulse / mj),
+        );
+        if R::ROUGH {
+            let (beta, q) = self.rule.roughness();
+            let (wi, wj) = (Vector3::from(R::spin(si)), Vector3::from(R::spin(sj)));
+            let kick = RoughKick::new(beta, q, (mi, mj), (pi.radius, pj.radius), &normal, &dv);
+            let (pt, dwi, dwj) = kick.apply(wi, wj);
+            for a in 0..D {
+                vi[a] += pt[a] / mi;
+                vj[a] -= pt[a] / mj;
+            }
+            R::set_spin(si, (wi + dwi).into());
+            R::set_spin(sj, (wj + dwj).into());
+        }
+        if R::ROTATES {
+            let theta = self.rule.rotation_angle(&mut self.rng);
+            (vi, vj) = rotate_relative(vi, vj, mi, mj, &normal, theta, &mut self.rng);
+        }
+        self.particles[i].vel = vi;
+        self.particles[i].r0 = pos_i - vi * now;
+        self.particles[j].vel = vj;
+        self.particles[j].r0 = pos_j - vj * now;
+        self.meta[i].counter = self.meta[i].counter.wrapping_add(1);
+        self.meta[j].counter = self.meta[j].counter.wrapping_add(1);
+        self.counters.pair_collisions += 1;
+        // Physical momentum transfer (the simulated one carries the deep-cooling scale).
+        self.counters.virial += impulse * dist * self.inv_scale;
+    }
+
+    /// Specular reflection of particle `i` at a wall normal to `axis`, with the wall's restitution.
+    #[inline]
+    pub(super) fn wall(&mut self, i: usize, axis: usize) {
+        let now = self.now;
+        let gravity = if B::GRAVITY && axis == D - 1 {
+            self.params.gravity
+        } else {
+            0.0
+        };
+        let p = &mut self.particles[i];
+        // Normal speed at contact (the stored velocity is the one at local time 0 under gravity).
+        let u = p.vel[axis] - gravity * now;
+        let e = if u.abs() < self.params.wall_threshold {
+            1.0
+        } else {
+            self.params.wall_epsilon
+        };
+        let v_new = -e * u + gravity * now;
+        // Keep the position continuous: r0 + v t is the non-gravitational part of the trajectory.
+        p.r0[axis] += (p.vel[axis] - v_new) * now;
+        p.vel[axis] = v_new;
+        self.meta[i].counter = self.meta[i].counter.wrapping_add(1);
+        self.counters.wall_collisions += 1;
+    }
+
+    /// `x` moved by a box length on each periodic axis where that brings it nearer to `y` (the
+    /// minimum image of `x − y` is then the plain difference). `collide` and the neighbour-list
+    /// search both take images this way, so that they agree to the last bit.
+    #[inline(always)]
+    pub(super) fn image_near(&self, x: &Vector<D>, y: &Vector<D>) -> Vector<D> {
+        let mut r = *x;
+        for a in 0..D {
+            if !B::is_wall(a) {
+                let d = x[a] - y[a];
+                if d > self.half_box[a] {
+                    r[a] -= self.box_len[a];
+                } else if d < -self.half_box[a] {
+                    r[a] += self.box_len[a];
+                }
+            }
+        }
+        r
+    }
+}
+
+/// A D-vector as a 3-vector (z = 0 in 2D).
+#[inline(always)]
+fn pad3<const D: usize>(v: &Vector<D>) -> Vector3<f64> {
+    Vector3::from_fn(|k, _| if k < D { v[k] } else { 0.0 })
+}
+
+/// The tangential part of a rough contact (PHYSICS.md §6.5): the contact point's relative velocity
+/// `g_c = g − (R_i ω_i + R_j ω_j) × n` loses the fraction `(1 + β)` of its tangential part.
+#[derive(Debug, Clone, Copy)]
+struct RoughKick {
+    beta: f64,
+    /// Moment-of-inertia factor, `I = q m R²`.
+    q: f64,
+    masses: (f64, f64),
+    radii: (f64, f64),
+    normal: Vector3<f64>,
+    /// Relative velocity `v_i − v_j` of the centres.
+    g: Vector3<f64>,
+}
+
+impl RoughKick {
+    #[inline(always)]
+    fn new<const D: usize>(
+        beta: f64,
+        q: f64,
+        masses: (f64, f64),
+        radii: (f64, f64),
+        normal: &Vector<D>,
+        g: &Vector<D>,
+    ) -> Self {
+        RoughKick {
+            beta,
+            q,
+            masses,
+            radii,
+            normal: pad3(normal),
+            g: pad3(g),
+        }
+    }
+
+    /// The tangential impulse on `i` (`−` of it on `j`) and the two spin changes, for spins `wi`, `wj`.
+    #[inline(always)]
+    fn apply(
+        &self,
+        wi: Vector3<f64>,
+        wj: Vector3<f64>,
+    ) -> (Vector3<f64>, Vector3<f64>, Vector3<f64>) {
+        let ((mi, mj), (ri, rj), q, n) = (self.masses, self.radii, self.q, &self.normal);
+        let arm = wi * ri + wj * rj;
+        let gc = self.g - arm.cross(n);
+        let gt = gc - n * gc.dot(n);
+        let inv_mu_t = 1.0 / mi + 1.0 / mj + 1.0 / (q * mi) + 1.0 / (q * mj);
+        let pt = gt * (-(1.0 + self.beta) / inv_mu_t);
+        // Torques: i is touched at −R_i n, j at +R_j n with −P_t.
+        let np = n.cross(&pt);
+        let (ii, ij) = (q * mi * ri * ri, q * mj * rj * rj);
+        (pt, np * (-ri) / ii, np * (-rj) / ij)
+    }
+}
+
+/// Rotates the relative velocity `vi − vj` by `theta` about a random axis in the centre-of-mass frame,
+/// keeping the centre-of-mass velocity and |vi − vj|; the direction is flipped if the first choice
+/// would make the pair approach along `normal`, and no rotation is done if both would.
+fn rotate_relative<const D: usize>(
+    vi: Vector<D>,
+    vj: Vector<D>,
+    mi: f64,
+    mj: f64,
+    normal: &Vector<D>,
+    theta: f64,
+    rng: &mut Xoshiro256PlusPlus,
+) -> (Vector<D>, Vector<D>) {
+    use rand::Rng;
+    let g = vi - vj;
+    let speed = g.norm();
+    if theta == 0.0 || speed == 0.0 {
+        return (vi, vj);
+    }
+    let gh = g / speed;
+    // A random unit vector perpendicular to g (in 2D: one of the two normals).
+    let mut w = Vector::<D>::from_fn(|_, _| rng.sample::<f64, _>(rand_distr::StandardNormal));
+    w -= gh * w.dot(&gh);
+    let wn = w.norm();
+    if wn == 0.0 {
+        return (vi, vj);
+    }
+    w /= wn;
+    let (s, c) = theta.sin_cos();
+    let mut rotated = (gh * c + w * s) * speed;
+    if rotated.dot(normal) < 0.0 {
+        rotated = (gh * c - w * s) * speed;
+        if rotated.dot(normal) < 0.0 {
+            return (vi, vj);
+        }
+    }
+    let mt = mi + mj;
+    let vcm = (vi * mi + vj * mj) / mt;
+    (vcm + rotated * (mj / mt), vcm - rotated * (mi / mt))
+}

@@ -1,0 +1,153 @@
+//! The step: one event popped, decoded once, and handed to the handler of its kind.
+
+use super::{Aux, Cells, Lists, Search, Simulation};
+use crate::calendar::Calendar;
+use crate::cells::NONE;
+use crate::{Boundary, CollisionRule};
+
+/// What an event was, with original particle indices.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum EventKind {
+    /// A pair collision between two particles.
+    Collision(u32, u32),
+    /// A collision candidate whose partner had changed; the particle was predicted again.
+    Stale(u32),
+    /// A particle moved to a neighbouring cell (cell mode).
+    CellCrossing(u32),
+    /// A particle left its shell and renewed its neighbour list (neighbour-list mode).
+    ShellExit(u32),
+    /// A particle hit a wall.
+    Wall(u32),
+}
+
+/// The popped event of a slot, decoded from its [`super::EventSlot`].
+#[derive(Debug, Clone, Copy)]
+enum Event {
+    /// A collision with slot `j`, whose candidate is still valid.
+    Collision(usize),
+    /// A collision candidate whose partner has collided since.
+    Stale,
+    /// A crossing, wall contact or shell exit.
+    Aux(Aux),
+}
+
+impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B, R, C> {
+    /// Processes the next event. Returns `None` when nothing will ever happen again (all at rest).
+    #[inline]
+    pub fn step(&mut self) -> Option<EventKind> {
+        match self.nl {
+            Some(_) => self.step_with::<Lists>(),
+            None => self.step_with::<Cells>(),
+        }
+    }
+
+    /// [`Self::step`] for a neighbour strategy fixed at compile time.
+    #[inline]
+    pub(super) fn step_with<S: Search>(&mut self) -> Option<EventKind> {
+        let (i, t) = self.calendar.pop()?;
+        if let Some(next) = self.calendar.next_hint() {
+            crate::prefetch::prefetch(&self.particles[next as usize]);
+            crate::prefetch::prefetch(&self.meta[next as usize]);
+        }
+        debug_assert!(t >= self.now, "event in the past: {t} < {}", self.now);
+        self.now = t;
+        self.counters.events += 1;
+        let i = i as usize;
+        let id = self.meta[i].id;
+        let kind = match self.decode(i) {
+            Event::Collision(j) => {
+                self.collide(i, j);
+                self.predict::<S>(i);
+                self.predict::<S>(j);
+                self.watch_collapse(i as u32, j as u32);
+                EventKind::Collision(id, self.meta[j].id)
+            }
+            Event::Stale => {
+                self.predict::<S>(i);
+                EventKind::Stale(id)
+            }
+            Event::Aux(Aux::Wall { axis, .. }) => {
+                self.wall(i, axis as usize);
+                self.predict::<S>(i);
+                self.monitor.forget_pair();
+                EventKind::Wall(id)
+            }
+            Event::Aux(Aux::ShellExit) => {
+                self.renew_list(i);
+                EventKind::ShellExit(id)
+            }
+            Event::Aux(Aux::Crossing { axis, up }) => {
+                self.cross(i, axis as usize, up);
+                EventKind::CellCrossing(id)
+            }
+        };
+        if self.counters.events >= self.next_maintenance {
+            self.maintenance();
+        }
+        Some(kind)
+    }
+
+    /// The event slot `i` holds now: its collision candidate if that comes first, else its
+    /// auxiliary event.
+    #[inline(always)]
+    fn decode(&self, i: usize) -> Event {
+        let e = &self.meta[i].ev;
+        if e.coll_t <= e.aux_t {
+            let j = e.partner as usize;
+            if self.meta[j].counter == e.partner_count {
+                Event::Collision(j)
+            } else {
+                Event::Stale
+            }
+        } else {
+            Event::Aux(e.aux)
+        }
+    }
+
+    /// Full prediction for slot `i` (already advanced to now), then reschedule it.
+    #[inline]
+    pub(super) fn predict<S: Search>(&mut self, i: usize) {
+        let (coll_t, partner) = self.search::<S>(i);
+        self.store::<S>(i, coll_t, partner);
+    }
+
+    /// Records the candidate `(coll_t, partner)` of slot `i` and files its next event.
+    #[inline]
+    pub(super) fn store<S: Search>(&mut self, i: usize, coll_t: f64, partner: u32) {
+        let t = self.set_event::<S>(i, coll_t, partner);
+        self.calendar.schedule(i as u32, t);
+    }
+
+    /// Earliest contact of slot `i` (at now) with any neighbour.
+    #[inline]
+    pub(super) fn search<S: Search>(&self, i: usize) -> (f64, u32) {
+        let none = (f64::INFINITY, NONE);
+        match &self.nl {
+            Some(nl) if S::LISTS => self.search_list(nl, i, none),
+            _ => self.search_cells(i, None, none),
+        }
+    }
+
+    /// Records particle `i`'s collision candidate and its next crossing, shell exit or wall contact;
+    /// returns the earlier of the two.
+    #[inline]
+    pub(super) fn set_event<S: Search>(&mut self, i: usize, coll_t: f64, partner: u32) -> f64 {
+        let (aux_t, aux) = match &self.nl {
+            Some(nl) if S::LISTS => self.aux_event_list(nl, i),
+            _ => self.aux_event_cells(i),
+        };
+        let partner_count = if partner == NONE {
+            0
+        } else {
+            self.meta[partner as usize].counter
+        };
+        self.meta[i].ev = super::EventSlot {
+            coll_t,
+            aux_t,
+            partner,
+            partner_count,
+            aux,
+        };
+        coll_t.min(aux_t)
+    }
+}

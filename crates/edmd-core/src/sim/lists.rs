@@ -1,0 +1,220 @@
+//! Neighbour-list mode ([`crate::nlist`]): list builds and renewals at shell exits, the search over a
+//! particle's list, and its next shell exit or wall contact.
+
+use super::{Aux, Lists, Simulation};
+use crate::calendar::Calendar;
+use crate::cells::NONE;
+use crate::nlist::NeighbourLists;
+use crate::predict::{pair_time, reach_time};
+use crate::{Boundary, CollisionRule, Vector};
+
+impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B, R, C> {
+    /// Neighbour-list mode: draws every shell around the particle's current position, files each
+    /// particle in the cell of its centre and fills all lists from scratch.
+    pub(super) fn build_lists(&mut self) {
+        let Some(mut nl) = self.nl.take() else {
+            return;
+        };
+        nl.clear();
+        self.grid.clear();
+        for i in 0..self.particles.len() {
+            let pos = self.wrapped_now(i);
+            nl.centre[i] = pos;
+            let c = self.grid.coords_of(&pos);
+            self.meta[i].cell = c;
+            self.grid
+                .insert(&mut self.particles, i as u32, self.grid.index(&c));
+        }
+        for i in 0..self.particles.len() {
+            self.gather(&mut nl, i, true);
+        }
+        self.nl = Some(nl);
+    }
+
+    /// The position of slot `i` now, with its trajectory moved by whole box lengths so that the
+    /// position lies in the box on every periodic axis (neighbour-list mode; no gravity).
+    pub(super) fn wrapped_now(&mut self, i: usize) -> Vector<D> {
+        let now = self.now;
+        let p = &mut self.particles[i];
+        let mut pos = p.r0 + p.vel * now;
+        for a in 0..D {
+            if !B::is_wall(a) {
+                let l = self.box_len[a];
+                if pos[a] < 0.0 {
+                    pos[a] += l;
+                    p.r0[a] += l;
+                } else if pos[a] >= l {
+                    pos[a] -= l;
+                    p.r0[a] -= l;
+                }
+            }
+        }
+        pos
+    }
+
+    /// Links slot `i` with every particle whose shell centre lies within `σ + δ` of its own, found in
+    /// the 3^D cells around `i`'s cell; with `later_only`, only slots above `i` (full builds).
+    pub(super) fn gather(&self, nl: &mut NeighbourLists<D>, i: usize, later_only: bool) {
+        let ci = self.meta[i].cell;
+        let centre = nl.centre[i];
+        let ri = self.particles[i].radius;
+        // Squared distance from the centre to the lower and upper face of its cell, per axis: a
+        // neighbour cell farther than the largest reach cannot hold a neighbour (in 3D about a
+        // quarter of the 27, mostly corners, for a centre anywhere in its cell).
+        let mut face2 = [[0.0; 3]; D];
+        for a in 0..D {
+            let lo = ci[a] as f64 * self.grid.side[a];
+            face2[a][0] = (centre[a] - lo).powi(2);
+            face2[a][2] = (lo + self.grid.side[a] - centre[a]).powi(2);
+        }
+        let far = nl.max_reach * nl.max_reach * (1.0 + 1e-9);
+        let out_of_reach = |code: usize| {
+            let mut rest = code;
+            let mut d2 = 0.0;
+            for f in &face2 {
+                d2 += f[rest % 3];
+                rest /= 3;
+            }
+            d2 > far
+        };
+        // The first member of each neighbour cell, all loads started before any list is walked.
+        let mut firsts = [NONE; 27];
+        let mut count = 0;
+        if self.grid.is_interior(&ci) {
+            let c = self.grid.index(&ci) as isize;
+            for (code, &o) in self.grid.full.iter().enumerate() {
+                if out_of_reach(code) {
+                    continue;
+                }
+                firsts[count] = self.grid.first((c + o) as usize);
+                count += 1;
+            }
+        } else {
+            for code in 0..3usize.pow(D as u32) {
+                if out_of_reach(code) {
+                    continue;
+                }
+                if let Some(idx) = self.grid.neighbour(&ci, code, B::is_wall) {
+                    firsts[count] = self.grid.first(idx);
+                    count += 1;
+                }
+            }
+        }
+        for &k in &firsts[..count] {
+            if k != NONE {
+                crate::prefetch::prefetch(&self.particles[k as usize]);
+                crate::prefetch::prefetch(&nl.centre[k as usize]);
+            }
+        }
+        for &first in &firsts[..count] {
+            let mut k = first;
+            while k != NONE {
+                let j = k as usize;
+                let pj = &self.particles[j];
+                k = pj.next_in_cell;
+                if k != NONE {
+                    crate::prefetch::prefetch(&self.particles[k as usize]);
+                    crate::prefetch::prefetch(&nl.centre[k as usize]);
+                }
+                if j == i || (later_only && j < i) {
+                    continue;
+                }
+                let d = self.image_near(&centre, &nl.centre[j]) - nl.centre[j];
+                let reach = ri + pj.radius + nl.skin;
+                if d.norm_squared() < reach * reach {
+                    nl.link(i, j);
+                }
+            }
+        }
+    }
+
+    /// Shell exit of slot `i`: a new shell around its current position, new neighbours, and a new
+    /// prediction. Its trajectory is unchanged, so every other particle's event stays valid.
+    pub(super) fn renew_list(&mut self, i: usize) {
+        self.counters.crossings += 1;
+        let Some(mut nl) = self.nl.take() else {
+            return;
+        };
+        nl.detach(i);
+        let pos = self.wrapped_now(i);
+        nl.centre[i] = pos;
+        let c = self.grid.coords_of(&pos);
+        if c != self.meta[i].cell {
+            let old = self.grid.index(&self.meta[i].cell);
+            self.grid.remove(&mut self.particles, i as u32, old);
+            self.grid
+                .insert(&mut self.particles, i as u32, self.grid.index(&c));
+            self.meta[i].cell = c;
+        }
+        self.gather(&mut nl, i, false);
+        self.nl = Some(nl);
+        self.predict::<Lists>(i);
+    }
+
+    /// Earliest contact of slot `i` (at now) with its listed neighbours.
+    #[inline]
+    pub(super) fn search_list(
+        &self,
+        nl: &NeighbourLists<D>,
+        i: usize,
+        mut best: (f64, u32),
+    ) -> (f64, u32) {
+        let now = self.now;
+        let pi = self.particles[i];
+        let pos_i = pi.r0 + pi.vel * now;
+        let vi2 = pi.vel.norm_squared();
+        let list = nl.of(i);
+        // Ask for every partner's cache line at once: their loads then overlap.
+        for &j in list {
+            crate::prefetch::prefetch(&self.particles[j as usize]);
+        }
+        for &j in list {
+            let pj = &self.particles[j as usize];
+            let pos_j = pj.r0 + pj.vel * now;
+            // The nearest image, exactly as `collide` takes it.
+            let dr = self.image_near(&pos_i, &pos_j) - pos_j;
+            let dv = pi.vel - pj.vel;
+            let t = now + pair_time(&dr, &dv, pi.radius + pj.radius, vi2 + pj.vel.norm_squared());
+            if t < best.0 {
+                best = (t, j);
+            }
+        }
+        best
+    }
+
+    /// Neighbour-list mode: the shell exit or wall contact of slot `i` (at now), whichever is first.
+    #[inline]
+    pub(super) fn aux_event_list(&self, nl: &NeighbourLists<D>, i: usize) -> (f64, Aux) {
+        let now = self.now;
+        let p = &self.particles[i];
+        let pos = p.r0 + p.vel * now;
+        let u = pos - nl.centre[i];
+        let v2 = p.vel.norm_squared();
+        let mut best = (f64::INFINITY, Aux::ShellExit);
+        if v2 > 0.0 {
+            // Positive root of |u + v s|² = h² with |u| ≤ h (up to round-off), cancellation-free.
+            let b = u.dot(&p.vel);
+            let c = (u.norm_squared() - nl.shell * nl.shell).min(0.0);
+            let q = (b * b - v2 * c).sqrt();
+            let s = if b > 0.0 { -c / (b + q) } else { (q - b) / v2 };
+            best.0 = now + s;
+        }
+        for a in 0..D {
+            let v = p.vel[a];
+            if !B::is_wall(a) || v == 0.0 {
+                continue;
+            }
+            let up = v > 0.0;
+            let target = if up {
+                self.box_len[a] - p.radius
+            } else {
+                p.radius
+            };
+            let t = now + reach_time(pos[a], v, target);
+            if t < best.0 {
+                best = (t, Aux::Wall { axis: a as u8, up });
+            }
+        }
+        best
+    }
+}

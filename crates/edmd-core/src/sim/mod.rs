@@ -1,0 +1,354 @@
+//! The event loop.
+//!
+//! Each particle owns one pending event, the earlier of
+//! * its best **collision candidate** `(time, partner, partner's collision counter)`, and
+//! * its **auxiliary event**: the next cell crossing, or, in the outermost cell of a walled axis, the
+//!   wall contact.
+//!
+//! The calendar holds one entry per particle. A candidate whose partner has collided since it was
+//! predicted is stale: its time is still a lower bound, so it is popped in order and the particle is
+//! simply predicted again (Smallenburg's single-event scheme; no searching of the queue). After a
+//! collision both partners are predicted against their whole 3^D neighbourhood; after a crossing the
+//! particle keeps its still-valid candidate and searches only the 3^(D−1) newly adjacent cells.
+//!
+//! With neighbour lists ([`crate::nlist`]) the auxiliary event is the exit from the particle's shell
+//! (or a wall contact), and a full prediction scans the particle's list instead of its cells.
+//!
+//! Time is a local clock, rebased to zero every few `N` events together with a re-tuning of the
+//! calendar's bucket width; [`Simulation::time`] adds the rebased epochs back.
+
+use std::marker::PhantomData;
+
+use rand::SeedableRng;
+use rand_xoshiro::Xoshiro256PlusPlus;
+
+use crate::calendar::{Calendar, PaulCalendar};
+use crate::cells::{CellGrid, NONE};
+use crate::nlist::NeighbourLists;
+use crate::{Boundary, CollisionRule, EdmdError, Particle, ParticleInit, Vector};
+
+mod cell_search;
+mod collapse;
+mod contact;
+mod cooling;
+mod event;
+mod lists;
+mod params;
+mod query;
+mod run;
+mod upkeep;
+
+use collapse::CollapseMonitor;
+pub use collapse::{Collapse, CollapseReason};
+pub use event::EventKind;
+pub use params::SimParams;
+pub use run::{RunEnd, Stop};
+
+/// A particle's next event other than a collision, as the slot stores it: decoded once, where it
+/// is predicted, and matched once, where it is handled.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Aux {
+    /// Into the neighbouring cell along `axis`, upwards if `up` (cell mode).
+    Crossing {
+        /// The axis.
+        axis: u8,
+        /// Towards the upper face.
+        up: bool,
+    },
+    /// Contact with the wall normal to `axis` (the upper one if `up`).
+    Wall {
+        /// The axis.
+        axis: u8,
+        /// The upper wall.
+        up: bool,
+    },
+    /// Out of the particle's shell (neighbour-list mode).
+    ShellExit,
+}
+
+/// How a simulation finds its neighbours, fixed at construction: [`Cells`] or [`Lists`]. The event
+/// loop is compiled once for each, and the choice is matched once per [`Simulation::step`] or per
+/// run, never inside a search.
+pub(crate) trait Search {
+    /// Neighbour lists with a skin (else cell crossings).
+    const LISTS: bool;
+}
+
+/// Cell mode: crossings between cells of side ≥ the largest diameter.
+#[derive(Debug)]
+pub(crate) struct Cells;
+
+/// Neighbour-list mode: shells of skin δ ([`SimParams::neighbour_skin`]).
+#[derive(Debug)]
+pub(crate) struct Lists;
+
+impl Search for Cells {
+    const LISTS: bool = false;
+}
+
+impl Search for Lists {
+    const LISTS: bool = true;
+}
+
+/// Per-particle pending event.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct EventSlot {
+    pub coll_t: f64,
+    pub aux_t: f64,
+    pub partner: u32,
+    pub partner_count: u32,
+    /// The event at `aux_t`.
+    pub aux: Aux,
+}
+
+impl EventSlot {
+    const EMPTY: EventSlot = EventSlot {
+        coll_t: f64::INFINITY,
+        aux_t: f64::INFINITY,
+        partner: NONE,
+        partner_count: 0,
+        aux: Aux::Crossing { axis: 0, up: false },
+    };
+}
+
+/// Per-particle bookkeeping kept together so that one cache line serves an event.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Meta<const D: usize> {
+    pub ev: EventSlot,
+    pub mass: f64,
+    /// Collisions suffered; a partner's stored count that differs marks a stale candidate.
+    pub counter: u32,
+    /// Original index of the particle (slots are renumbered in cell order for locality).
+    pub id: u32,
+    pub cell: [u32; D],
+}
+
+/// Running counters.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Counters {
+    /// Events processed (all kinds).
+    pub events: u64,
+    /// Pair collisions (`C`).
+    pub pair_collisions: u64,
+    /// Particle–wall collisions.
+    pub wall_collisions: u64,
+    /// Cell crossings (with neighbour lists: shell exits, each renewing the particle's list).
+    pub crossings: u64,
+    /// Σ over pair collisions of `r_ij · Δp_i` (the collision virial), in the simulation's units.
+    pub virial: f64,
+}
+
+/// An event-driven simulation of hard disks (`D = 2`) or spheres (`D = 3`) in a box with boundary
+/// `B`, collision rule `R` and calendar `C`.
+#[derive(Debug, Clone)]
+pub struct Simulation<const D: usize, B: Boundary, R: CollisionRule, C: Calendar = PaulCalendar> {
+    pub(crate) particles: Vec<Particle<D>>,
+    /// Per-particle bookkeeping, touched when the particle itself has an event.
+    pub(crate) meta: Vec<Meta<D>>,
+    /// Per-particle memory of the collision rule (zero-sized, so free, for memoryless rules).
+    pub(crate) rule_state: Vec<R::State>,
+    pub(crate) grid: CellGrid<D>,
+    /// Neighbour lists, when they replace cell crossings ([`SimParams::neighbour_skin`]).
+    pub(crate) nl: Option<NeighbourLists<D>>,
+    pub(crate) calendar: C,
+    pub(crate) rule: R,
+    pub(crate) box_len: Vector<D>,
+    pub(crate) half_box: Vector<D>,
+    pub(crate) now: f64,
+    /// Simulated time of the local clock's origin, in the current velocity units.
+    pub(crate) epoch: f64,
+    /// Deep cooling: simulated velocities are the physical ones times `exp(ln_scale)`.
+    pub(crate) ln_scale: f64,
+    /// `exp(−ln_scale)`: converts simulated speeds to physical ones.
+    pub(crate) inv_scale: f64,
+    /// `exp(ln_scale)`: converts simulated times to physical ones (∞ beyond 1e308).
+    scale: f64,
+    /// Simulated temperature to which the velocities are rescaled.
+    t_ref: f64,
+    pub(crate) counters: Counters,
+    params: SimParams,
+    /// Random stream of the rules that need one (random rotation), seeded from `SimParams::seed`.
+    rng: Xoshiro256PlusPlus,
+    monitor: CollapseMonitor,
+    next_maintenance: u64,
+    last_maintenance: (u64, f64),
+    _boundary: PhantomData<B>,
+}
+
+impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B, R, C> {
+    /// Builds a simulation from explicit particles. Errors if a parameter is invalid, a particle lies
+    /// outside the box (or inside a wall), or two particles overlap.
+    pub fn new(
+        box_len: Vector<D>,
+        particles: Vec<ParticleInit<D>>,
+        rule: R,
+        params: SimParams,
+    ) -> Result<Self, EdmdError> {
+        let n = particles.len();
+        if n == 0 {
+            return Err(EdmdError::invalid("N", 0, "need at least one particle"));
+        }
+        if n >= NONE as usize {
+            return Err(EdmdError::invalid("N", n, "at most 2^32 − 2 particles"));
+        }
+        for a in 0..D {
+            if !(box_len[a] > 0.0 && box_len[a].is_finite()) {
+                return Err(EdmdError::invalid(
+                    crate::error::AXIS_NAMES[a],
+                    box_len[a],
+                    "box side must be positive and finite",
+                ));
+            }
+        }
+        params.validate()?;
+        if params.gravity != 0.0 && !B::GRAVITY {
+            return Err(EdmdError::invalid(
+                "gravity",
+                params.gravity,
+                "this scene has no gravity: use a GravityAxes scene",
+            ));
+        }
+        if B::GRAVITY && !B::is_wall(D - 1) {
+            return Err(EdmdError::invalid(
+                "scene",
+                B::NAME,
+                "gravity needs walls (a floor) on the last axis",
+            ));
+        }
+        let mut max_d: f64 = 0.0;
+        for (i, p) in particles.iter().enumerate() {
+            if !(p.radius > 0.0 && p.radius.is_finite()) {
+                return Err(EdmdError::invalid(
+                    "radius",
+                    p.radius,
+                    format!("particle {i}: radius must be positive"),
+                ));
+            }
+            if !(p.mass > 0.0 && p.mass.is_finite()) {
+                return Err(EdmdError::invalid(
+                    "mass",
+                    p.mass,
+                    format!("particle {i}: mass must be positive"),
+                ));
+            }
+            for a in 0..D {
+                let (lo, hi) = if B::is_wall(a) {
+                    (p.radius, box_len[a] - p.radius)
+                } else {
+                    (0.0, box_len[a])
+                };
+                let x = p.pos[a];
+                if !(x >= lo && x <= hi) || (!B::is_wall(a) && x >= hi) {
+                    return Err(EdmdError::invalid(
+                        "position",
+                        x,
+                        format!("particle {i}, axis {a}: outside [{lo}, {hi}]"),
+                    ));
+                }
+                if !p.vel[a].is_finite() {
+                    return Err(EdmdError::invalid(
+                        "velocity",
+                        p.vel[a],
+                        format!("particle {i}: not finite"),
+                    ));
+                }
+            }
+            max_d = max_d.max(2.0 * p.radius);
+        }
+        let skin = params.neighbour_skin * max_d;
+        let list_grid = (skin > 0.0 && !B::GRAVITY)
+            .then(|| CellGrid::new(&box_len, max_d + skin, max_d * params.cell_factor, n).ok())
+            .flatten();
+        let (grid, nl) = match list_grid {
+            Some(g) => (g, Some(NeighbourLists::new(n, skin, max_d))),
+            None => (
+                CellGrid::new(&box_len, max_d, max_d * params.cell_factor, n)?,
+                None,
+            ),
+        };
+        let meta = particles
+            .iter()
+            .enumerate()
+            .map(|(i, p)| Meta {
+                ev: EventSlot::EMPTY,
+                mass: p.mass,
+                counter: 0,
+                id: i as u32,
+                cell: [0; D],
+            })
+            .collect();
+        let mut sim = Simulation {
+            // Same size and alignment: the conversion reuses the allocation.
+            particles: particles
+                .into_iter()
+                .map(|p| Particle {
+                    r0: p.pos,
+                    vel: p.vel,
+                    radius: p.radius,
+                    next_in_cell: NONE,
+                })
+                .collect(),
+            meta,
+            rule_state: vec![R::State::default(); n],
+            grid,
+            nl,
+            calendar: C::with_capacity(n),
+            rule,
+            box_len,
+            half_box: box_len / 2.0,
+            now: 0.0,
+            epoch: 0.0,
+            ln_scale: 0.0,
+            inv_scale: 1.0,
+            scale: 1.0,
+            t_ref: 0.0,
+            counters: Counters::default(),
+            rng: Xoshiro256PlusPlus::seed_from_u64(params.seed),
+            params,
+            monitor: CollapseMonitor::default(),
+            next_maintenance: 0,
+            last_maintenance: (0, 0.0),
+            _boundary: PhantomData,
+        };
+        for i in 0..n {
+            let c = sim.grid.coords_of(&sim.particles[i].r0);
+            sim.meta[i].cell = c;
+            let idx = sim.grid.index(&c);
+            sim.grid.insert(&mut sim.particles, i as u32, idx);
+        }
+        if let Some((i, j, overlap)) = sim.deepest_overlap().filter(|o| o.2 > 1e-12) {
+            return Err(EdmdError::Overlap { i, j, overlap });
+        }
+        sim.build_lists();
+        sim.restart_events();
+        Ok(sim)
+    }
+
+    /// Replaces the collision rule, keeping the state (e.g. after an elastic melt).
+    pub fn with_rule<R2: CollisionRule>(self, rule: R2) -> Simulation<D, B, R2, C> {
+        Simulation {
+            particles: self.particles,
+            rule_state: vec![R2::State::default(); self.meta.len()],
+            meta: self.meta,
+            grid: self.grid,
+            nl: self.nl,
+            calendar: self.calendar,
+            rule,
+            box_len: self.box_len,
+            half_box: self.half_box,
+            now: self.now,
+            epoch: self.epoch,
+            ln_scale: self.ln_scale,
+            inv_scale: self.inv_scale,
+            scale: self.scale,
+            t_ref: self.t_ref,
+            counters: self.counters,
+            params: self.params,
+            rng: self.rng,
+            monitor: self.monitor,
+            next_maintenance: self.next_maintenance,
+            last_maintenance: self.last_maintenance,
+            _boundary: PhantomData,
+        }
+    }
+}

@@ -1,0 +1,231 @@
+//! Read access and small edits: time, counters, per-particle quantities in the original order,
+//! energies, overlaps.
+
+use super::{Meta, Simulation};
+use crate::calendar::Calendar;
+use crate::cells::{CellGrid, NONE};
+use crate::{Boundary, CollisionRule, Counters, Particle, Vector};
+
+impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B, R, C> {
+    /// True if neighbour lists replace cell crossings ([`SimParams::neighbour_skin`] > 0, no gravity,
+    /// and a box of at least three cells of side `σ + δ`).
+    pub fn uses_neighbour_lists(&self) -> bool {
+        self.nl.is_some()
+    }
+
+    /// Number of particles.
+    pub fn len(&self) -> usize {
+        self.particles.len()
+    }
+
+    /// True if there are no particles (never, for a constructed simulation).
+    pub fn is_empty(&self) -> bool {
+        self.particles.is_empty()
+    }
+
+    /// Physical time since the start (overflows to ∞ only beyond 1e308 under extreme deep cooling).
+    pub fn time(&self) -> f64 {
+        (self.epoch + self.now) * self.scale
+    }
+
+    /// ln of the physical time, finite however deep the cooling (the time itself overflows to ∞
+    /// beyond 1e308).
+    pub fn ln_time(&self) -> f64 {
+        (self.epoch + self.now).ln() + self.ln_scale
+    }
+
+    /// Pair collisions per particle, τ = C/N.
+    pub fn tau(&self) -> f64 {
+        self.counters.pair_collisions as f64 / self.len() as f64
+    }
+
+    /// Event counters.
+    pub fn counters(&self) -> &Counters {
+        &self.counters
+    }
+
+    /// Resets the event counters (not the clock), e.g. after equilibration.
+    pub fn reset_counters(&mut self) {
+        let events = self.counters.events;
+        self.counters = Counters {
+            events,
+            ..Counters::default()
+        };
+    }
+
+    /// The box sides.
+    pub fn box_len(&self) -> &Vector<D> {
+        &self.box_len
+    }
+
+    /// The cell grid.
+    pub fn grid(&self) -> &CellGrid<D> {
+        &self.grid
+    }
+
+    /// The collision rule.
+    pub fn rule(&self) -> &R {
+        &self.rule
+    }
+
+    /// Masses, in the original particle order.
+    pub fn masses(&self) -> Vec<f64> {
+        self.in_original_order(|s| self.meta[s].mass)
+    }
+
+    /// Particle states by internal slot, which is not the original order (positions at each
+    /// particle's own time `t`); see [`Self::positions`] and [`Self::velocities`].
+    pub fn particles(&self) -> &[Particle<D>] {
+        &self.particles
+    }
+
+    /// Angular velocities (physical units, original order; z only in 2D; zero for smooth rules).
+    pub fn spins(&self) -> Vec<[f64; 3]> {
+        self.in_original_order(|s| {
+            let w = R::spin(&self.rule_state[s]);
+            [
+                w[0] * self.inv_scale,
+                w[1] * self.inv_scale,
+                w[2] * self.inv_scale,
+            ]
+        })
+    }
+
+    /// Sets the angular velocity of particle `id` (original index; physical units; only z counts in
+    /// 2D). Ignored by smooth rules. Events are predicted again.
+    pub fn set_spin(&mut self, id: usize, spin: [f64; 3]) {
+        if let Some(s) = self.meta.iter().position(|m| m.id as usize == id) {
+            let f = self.scale;
+            R::set_spin(
+                &mut self.rule_state[s],
+                [spin[0] * f, spin[1] * f, spin[2] * f],
+            );
+        }
+    }
+
+    /// Rotational kinetic energy Σ I ω²/2 (physical units; zero for smooth rules).
+    pub fn rotational_energy(&self) -> f64 {
+        if !R::ROUGH {
+            return 0.0;
+        }
+        let (_, q) = self.rule.roughness();
+        let sum: f64 = (0..self.len())
+            .map(|s| {
+                let w = R::spin(&self.rule_state[s]);
+                let r = self.particles[s].radius;
+                0.5 * q * self.meta[s].mass * r * r * (w[0] * w[0] + w[1] * w[1] + w[2] * w[2])
+            })
+            .sum();
+        sum * self.inv_scale * self.inv_scale
+    }
+
+    /// Collisions (pair and wall) suffered by each particle, in the original order.
+    pub fn collision_counts(&self) -> Vec<u32> {
+        self.in_original_order(|s| self.meta[s].counter)
+    }
+
+    /// Gathers a per-slot quantity into the original particle order.
+    pub(super) fn in_original_order<T>(&self, f: impl Fn(usize) -> T) -> Vec<T> {
+        let mut slot = vec![0u32; self.len()];
+        for (s, m) in self.meta.iter().enumerate() {
+            slot[m.id as usize] = s as u32;
+        }
+        slot.into_iter().map(|s| f(s as usize)).collect()
+    }
+
+    /// Velocities, in the original particle order.
+    pub fn velocities(&self) -> Vec<Vector<D>> {
+        self.in_original_order(|s| self.velocity_now(&self.particles[s]) * self.inv_scale)
+    }
+
+    /// Velocities in the simulation's internal units (the physical ones times
+    /// `exp(ln_velocity_scale())`), in the original order: finite and well-scaled at any depth of
+    /// cooling, for scale-free measures such as [`crate::order_parameters`].
+    pub fn velocities_internal(&self) -> Vec<Vector<D>> {
+        self.in_original_order(|s| self.velocity_now(&self.particles[s]))
+    }
+
+    /// A particle's velocity at the current time (the stored one is at local time 0 under gravity).
+    #[inline(always)]
+    pub(crate) fn velocity_now(&self, p: &Particle<D>) -> Vector<D> {
+        let mut v = p.vel;
+        if B::GRAVITY {
+            v[D - 1] -= self.params.gravity * self.now;
+        }
+        v
+    }
+
+    /// Potential energy Σ m g h in the gravity field (0 without gravity).
+    pub fn potential_energy(&self) -> f64 {
+        if !B::GRAVITY {
+            return 0.0;
+        }
+        let g = self.params.gravity;
+        (0..self.len())
+            .map(|s| self.meta[s].mass * g * self.position_of_slot(s)[D - 1])
+            .sum()
+    }
+
+    /// Positions at the current time, wrapped into the box on periodic axes, in the original order.
+    pub fn positions(&self) -> Vec<Vector<D>> {
+        self.in_original_order(|s| self.position_of_slot(s))
+    }
+
+    pub(super) fn position_of_slot(&self, s: usize) -> Vector<D> {
+        let p = &self.particles[s];
+        let mut x = p.r0 + p.vel * self.now;
+        if B::GRAVITY {
+            x[D - 1] -= 0.5 * self.params.gravity * self.now * self.now;
+        }
+        for a in 0..D {
+            if !B::is_wall(a) {
+                x[a] = x[a].rem_euclid(self.box_len[a]);
+            }
+        }
+        x
+    }
+
+    /// Heap bytes held by the simulation's own arrays (particles, events, cells, calendar estimate).
+    pub fn heap_bytes(&self) -> usize {
+        use std::mem::size_of;
+        self.particles.capacity() * size_of::<Particle<D>>()
+            + self.meta.capacity() * size_of::<Meta<D>>()
+            + self.grid.heap_bytes()
+            + self.nl.as_ref().map_or(0, |nl| nl.heap_bytes())
+    }
+
+    /// The deepest overlap among all neighbouring pairs, as `(i, j, depth / contact distance)` with
+    /// original indices (negative depth: the closest pair's gap); O(N).
+    pub fn deepest_overlap(&self) -> Option<(usize, usize, f64)> {
+        let pos: Vec<Vector<D>> = (0..self.len()).map(|s| self.position_of_slot(s)).collect();
+        let mut worst: Option<(usize, usize, f64)> = None;
+        for i in 0..self.len() {
+            let ci = self.meta[i].cell;
+            for code in 0..3usize.pow(D as u32) {
+                let Some(idx) = self.grid.neighbour(&ci, code, B::is_wall) else {
+                    continue;
+                };
+                let mut k = self.grid.first(idx);
+                while k != NONE {
+                    let k_ = k as usize;
+                    if k_ > i {
+                        let mut dr = pos[i] - pos[k_];
+                        for a in 0..D {
+                            if !B::is_wall(a) {
+                                dr[a] -= self.box_len[a] * (dr[a] / self.box_len[a]).round();
+                            }
+                        }
+                        let sigma = self.particles[i].radius + self.particles[k_].radius;
+                        let depth = (sigma - dr.norm()) / sigma;
+                        if worst.is_none_or(|w| depth > w.2) {
+                            worst =
+                                Some((self.meta[i].id as usize, self.meta[k_].id as usize, depth));
+                        }
+                    }
+                    k = self.particles[k_].next_in_cell;
+                }
+            }
+        }
+        worst
+    }
+}

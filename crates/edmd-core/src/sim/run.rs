@@ -1,0 +1,151 @@
+//! Run loops: until a stop condition, optionally sampling on a schedule.
+
+use super::{Cells, Lists, Search, Simulation};
+use crate::calendar::Calendar;
+use crate::{Boundary, CollisionRule};
+
+/// When to stop a run.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Stop {
+    /// After this many pair collisions per particle, τ = C/N (counted since the last counter reset).
+    Tau(f64),
+    /// At this physical time.
+    Time(f64),
+    /// After this many more events of any kind.
+    Events(u64),
+}
+
+/// Why a run ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RunEnd {
+    /// The stop condition was reached.
+    Reached,
+    /// No event is left (every particle at rest).
+    Exhausted,
+    /// Inelastic collapse was detected (see [`Simulation::collapse`]).
+    Collapsed,
+}
+
+impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B, R, C> {
+    /// Simulated local time at physical time `t`.
+    pub(super) fn local_time_of(&self, t: f64) -> f64 {
+        t * self.inv_scale - self.epoch
+    }
+
+    /// Runs until `stop`.
+    pub fn run(&mut self, stop: Stop) -> RunEnd {
+        match self.nl {
+            Some(_) => self.run_with::<Lists>(stop),
+            None => self.run_with::<Cells>(stop),
+        }
+    }
+
+    /// [`Self::run`] for a neighbour strategy fixed at compile time.
+    fn run_with<S: Search>(&mut self, stop: Stop) -> RunEnd {
+        if self.collapse().is_some() {
+            return RunEnd::Collapsed;
+        }
+        match stop {
+            Stop::Tau(tau) => {
+                let target = (tau * self.len() as f64).ceil().max(0.0) as u64;
+                while self.counters.pair_collisions < target {
+                    if self.step_with::<S>().is_none() {
+                        return RunEnd::Exhausted;
+                    }
+                    if self.collapse().is_some() {
+                        return RunEnd::Collapsed;
+                    }
+                }
+            }
+            Stop::Events(n) => {
+                let target = self.counters.events + n;
+                while self.counters.events < target {
+                    if self.step_with::<S>().is_none() {
+                        return RunEnd::Exhausted;
+                    }
+                    if self.collapse().is_some() {
+                        return RunEnd::Collapsed;
+                    }
+                }
+            }
+            Stop::Time(t) => loop {
+                let local = self.local_time_of(t);
+                match self.calendar.peek_time() {
+                    Some(next) if next <= local => {
+                        self.step_with::<S>();
+                        if self.collapse().is_some() {
+                            return RunEnd::Collapsed;
+                        }
+                    }
+                    Some(_) => {
+                        self.now = local.max(self.now);
+                        return RunEnd::Reached;
+                    }
+                    None => {
+                        self.now = local.max(self.now);
+                        return RunEnd::Exhausted;
+                    }
+                }
+            },
+        }
+        RunEnd::Reached
+    }
+
+    /// Runs until `stop`, calling `observe` whenever τ passes a point of `schedule` (including the
+    /// current τ if the schedule holds it).
+    pub fn run_sampled(
+        &mut self,
+        stop: Stop,
+        schedule: &crate::Schedule,
+        observe: impl FnMut(&Self),
+    ) -> RunEnd {
+        match self.nl {
+            Some(_) => self.run_sampled_with::<Lists>(stop, schedule, observe),
+            None => self.run_sampled_with::<Cells>(stop, schedule, observe),
+        }
+    }
+
+    /// [`Self::run_sampled`] for a neighbour strategy fixed at compile time.
+    fn run_sampled_with<S: Search>(
+        &mut self,
+        stop: Stop,
+        schedule: &crate::Schedule,
+        mut observe: impl FnMut(&Self),
+    ) -> RunEnd {
+        let n = self.len() as f64;
+        let mut next = schedule.first_at_or_after(self.tau());
+        let event_target = match stop {
+            Stop::Events(k) => self.counters.events + k,
+            _ => u64::MAX,
+        };
+        loop {
+            while let Some(tau) = next {
+                if (self.counters.pair_collisions as f64) < (tau * n).ceil() {
+                    break;
+                }
+                observe(self);
+                next = schedule.next_after(tau);
+            }
+            let done = match stop {
+                Stop::Tau(t) => self.counters.pair_collisions as f64 >= (t * n).ceil(),
+                Stop::Events(_) => self.counters.events >= event_target,
+                Stop::Time(t) => match self.calendar.peek_time() {
+                    Some(next_t) if next_t <= self.local_time_of(t) => false,
+                    _ => {
+                        self.now = self.local_time_of(t).max(self.now);
+                        true
+                    }
+                },
+            };
+            if done {
+                return RunEnd::Reached;
+            }
+            if self.step_with::<S>().is_none() {
+                return RunEnd::Exhausted;
+            }
+            if self.collapse().is_some() {
+                return RunEnd::Collapsed;
+            }
+        }
+    }
+}
