@@ -1,0 +1,85 @@
+//! The Paul calendar against the heap oracle.
+
+use super::*;
+use rand::{Rng, SeedableRng};
+use rand_xoshiro::Xoshiro256PlusPlus;
+
+/// Random schedule/remove/pop traffic, the way an event loop produces it: both calendars must
+/// return identical sequences.
+fn compare(n: usize, width: f64, steps: usize, seed: u64) {
+    let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
+    let mut a = PaulCalendar::with_capacity(n);
+    let mut b = HeapCalendar::with_capacity(n);
+    a.reset(0.0, width);
+    b.reset(0.0, width);
+    for i in 0..n as u32 {
+        let t = rng.random::<f64>() * 3.0;
+        a.schedule(i, t);
+        b.schedule(i, t);
+    }
+    let mut now = 0.0;
+    for _ in 0..steps {
+        let (ia, ta) = a.pop().unwrap();
+        let (ib, tb) = b.pop().unwrap();
+        assert_eq!((ia, ta), (ib, tb));
+        assert!(ta >= now);
+        now = ta;
+        // Reschedule the popped particle and disturb a random other one, sometimes far ahead,
+        // sometimes at exactly `now`, sometimes removing it.
+        let dt = if rng.random::<f64>() < 0.05 {
+            rng.random::<f64>() * 1e3
+        } else {
+            rng.random::<f64>()
+        };
+        a.schedule(ia, now + dt);
+        b.schedule(ib, now + dt);
+        let j = rng.random_range(0..n as u32);
+        match rng.random_range(0..4) {
+            0 => {
+                a.remove(j);
+                b.remove(j);
+            }
+            1 => {
+                a.schedule(j, now);
+                b.schedule(j, now);
+            }
+            _ => {
+                let t = now + rng.random::<f64>() * 2.0;
+                a.schedule(j, t);
+                b.schedule(j, t);
+            }
+        }
+        assert_eq!(a.len(), b.len());
+        if a.is_empty() {
+            break;
+        }
+    }
+}
+
+#[test]
+fn paul_matches_binary_heap() {
+    compare(1000, 1e-3, 200_000, 1);
+    compare(50, 0.5, 100_000, 2); // wide buckets: big heap
+    compare(300, 1e-6, 50_000, 3); // narrow buckets: mostly overflow
+}
+
+#[test]
+fn ties_break_by_index() {
+    let mut c = PaulCalendar::with_capacity(4);
+    c.reset(0.0, 1.0);
+    for i in [3, 1, 2, 0] {
+        c.schedule(i, 5.0);
+    }
+    let order: Vec<u32> = std::iter::from_fn(|| c.pop().map(|e| e.0)).collect();
+    assert_eq!(order, vec![0, 1, 2, 3]);
+}
+
+#[test]
+fn infinite_time_means_unscheduled() {
+    let mut c = PaulCalendar::with_capacity(2);
+    c.reset(0.0, 1.0);
+    c.schedule(0, 1.0);
+    c.schedule(0, f64::INFINITY);
+    assert!(c.is_empty());
+    assert_eq!(c.pop(), None);
+}

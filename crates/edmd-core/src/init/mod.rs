@@ -1,0 +1,252 @@
+//! Initial states: random non-overlapping placement in O(N), centred lattices for dense states, and
+//! velocities (uniform in (−v, v) as in the thesis, or Maxwellian) with zero total momentum and the
+//! exact target temperature.
+
+use rand::SeedableRng;
+use rand_xoshiro::Xoshiro256PlusPlus;
+
+use crate::calendar::{Calendar, PaulCalendar};
+use crate::{
+    Boundary, CollisionRule, EdmdError, Elastic, ParticleInit, SimParams, Simulation, Stop, Vector,
+};
+
+mod place;
+#[cfg(test)]
+mod tests;
+mod velocities;
+
+use place::{lattice_positions, random_positions};
+pub use velocities::draw_velocities;
+
+/// How particles are placed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Placement {
+    /// Random sequential addition through the cell grid (2D up to φ ≈ 0.45, 3D up to ≈ 0.3).
+    Random,
+    /// A centred lattice (2D up to φ ≈ 0.9, 3D up to ≈ 0.68), then melted elastically.
+    Lattice,
+    /// Random below φ = 0.4 (2D) or 0.25 (3D), lattice above.
+    Auto,
+}
+
+/// Velocity distribution before momentum removal and temperature scaling.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Velocities {
+    /// Each component uniform in (−1, 1), as in the thesis (kurtosis 1.4 in 2D instead of 2).
+    Uniform,
+    /// Maxwell–Boltzmann.
+    Maxwell,
+}
+
+/// Parameters of an initial state of monodisperse (or, with `radii`, polydisperse) particles.
+#[derive(Debug, Clone, PartialEq)]
+pub struct InitParams<const D: usize> {
+    /// Number of particles.
+    pub n: usize,
+    /// Box sides.
+    pub box_len: Vector<D>,
+    /// Radius of every particle (default 0.5, i.e. σ = 1), unless `radii` is set.
+    pub radius: f64,
+    /// Per-particle radii (polydisperse); overrides `radius`.
+    pub radii: Option<Vec<f64>>,
+    /// Mass of a particle of radius `radius` (default 1); with `radii`, masses scale as r^D.
+    pub mass: f64,
+    /// Placement method (default `Auto`).
+    pub placement: Placement,
+    /// Velocity distribution (default `Maxwell`).
+    pub velocities: Velocities,
+    /// Target temperature T0 (default 1).
+    pub temperature: f64,
+    /// Seed of the random stream.
+    pub seed: u64,
+    /// Elastic collisions per particle run after placement (default 0 for random placement, 20 for a
+    /// lattice); counters are reset afterwards.
+    pub melt_tau: Option<f64>,
+    /// Event-loop settings (default: tuned to the density).
+    pub sim: Option<SimParams>,
+}
+
+impl<const D: usize> InitParams<D> {
+    /// `n` particles of diameter 1 at packing fraction `phi` in a square (cubic) box.
+    pub fn with_packing(n: usize, phi: f64) -> Result<Self, EdmdError> {
+        if n == 0 {
+            return Err(EdmdError::invalid("N", n, "need at least one particle"));
+        }
+        if !(phi > 0.0 && phi < 1.0) {
+            return Err(EdmdError::invalid(
+                "phi",
+                phi,
+                "packing fraction must lie in (0, 1)",
+            ));
+        }
+        let side = (n as f64 * unit_volume::<D>(0.5) / phi).powf(1.0 / D as f64);
+        Ok(Self::in_box(n, Vector::<D>::repeat(side)))
+    }
+
+    /// `n` particles of diameter 1 in a given box.
+    pub fn in_box(n: usize, box_len: Vector<D>) -> Self {
+        InitParams {
+            n,
+            box_len,
+            radius: 0.5,
+            radii: None,
+            mass: 1.0,
+            placement: Placement::Auto,
+            velocities: Velocities::Maxwell,
+            temperature: 1.0,
+            seed: 0,
+            melt_tau: None,
+            sim: None,
+        }
+    }
+
+    /// Packing fraction of the state.
+    pub fn packing_fraction(&self) -> f64 {
+        let vol: f64 = match &self.radii {
+            Some(r) => r.iter().map(|&r| unit_volume::<D>(r)).sum(),
+            None => self.n as f64 * unit_volume::<D>(self.radius),
+        };
+        vol / self.box_len.iter().product::<f64>()
+    }
+
+    fn validate(&self) -> Result<(), EdmdError> {
+        if self.n < 2 {
+            return Err(EdmdError::invalid(
+                "N",
+                self.n,
+                "need at least two particles (momentum is set to zero)",
+            ));
+        }
+        if !(self.radius > 0.0 && self.radius.is_finite()) {
+            return Err(EdmdError::invalid(
+                "radius",
+                self.radius,
+                "must be positive",
+            ));
+        }
+        if let Some(r) = &self.radii {
+            if r.len() != self.n {
+                return Err(EdmdError::invalid(
+                    "radii",
+                    r.len(),
+                    format!("need one radius per particle (N = {})", self.n),
+                ));
+            }
+            if let Some(bad) = r.iter().find(|&&r| !(r > 0.0 && r.is_finite())) {
+                return Err(EdmdError::invalid(
+                    "radii",
+                    bad,
+                    "every radius must be positive",
+                ));
+            }
+        }
+        if !(self.mass > 0.0 && self.mass.is_finite()) {
+            return Err(EdmdError::invalid("mass", self.mass, "must be positive"));
+        }
+        if !(self.temperature > 0.0 && self.temperature.is_finite()) {
+            return Err(EdmdError::invalid(
+                "temperature",
+                self.temperature,
+                "must be positive",
+            ));
+        }
+        if let Some(m) = self.melt_tau {
+            if !(m >= 0.0 && m.is_finite()) {
+                return Err(EdmdError::invalid("melt_tau", m, "must be ≥ 0"));
+            }
+        }
+        let phi = self.packing_fraction();
+        if !(phi < 1.0) {
+            return Err(EdmdError::invalid(
+                "phi",
+                phi,
+                "packing fraction must be below 1",
+            ));
+        }
+        Ok(())
+    }
+
+    /// Builds the simulation: places particles, draws velocities, melts a lattice elastically, sets
+    /// zero momentum and the exact temperature, and resets the counters.
+    pub fn build<B: Boundary, R: CollisionRule>(
+        &self,
+        rule: R,
+    ) -> Result<Simulation<D, B, R>, EdmdError> {
+        self.build_with_calendar::<B, R, PaulCalendar>(rule)
+    }
+
+    /// [`Self::build`] with a chosen event calendar (e.g. [`crate::HeapCalendar`] as an oracle).
+    pub fn build_with_calendar<B: Boundary, R: CollisionRule, C: Calendar>(
+        &self,
+        rule: R,
+    ) -> Result<Simulation<D, B, R, C>, EdmdError> {
+        self.validate()?;
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(self.seed);
+        let radii: Vec<f64> = self
+            .radii
+            .clone()
+            .unwrap_or_else(|| vec![self.radius; self.n]);
+        let phi = self.packing_fraction();
+        let lattice = match self.placement {
+            Placement::Random => false,
+            Placement::Lattice => true,
+            Placement::Auto => phi > if D == 2 { 0.4 } else { 0.25 },
+        };
+        let positions = if lattice {
+            if self.radii.is_some() {
+                return Err(EdmdError::invalid(
+                    "placement",
+                    "lattice",
+                    "lattice starts need equal radii; use random placement",
+                ));
+            }
+            lattice_positions::<D, B>(self.n, &self.box_len, self.radius, phi, &mut rng)?
+        } else {
+            random_positions::<D, B>(&radii, &self.box_len, phi, &mut rng)?
+        };
+        let masses: Vec<f64> = radii
+            .iter()
+            .map(|&r| self.mass * (r / self.radius).powi(D as i32))
+            .collect();
+        let velocities = draw_velocities::<D>(&masses, self.velocities, self.temperature, &mut rng);
+        let particles: Vec<ParticleInit<D>> = (positions.into_iter().zip(velocities))
+            .zip(radii.into_iter().zip(masses))
+            .map(|((pos, vel), (radius, mass))| ParticleInit {
+                pos,
+                vel,
+                radius,
+                mass,
+            })
+            .collect();
+        // The random stream of random collision rules derives from the state's seed.
+        let params = self.sim.unwrap_or_else(|| SimParams {
+            seed: self.seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ 1,
+            ..SimParams::for_density::<D>(phi)
+        });
+        let melt = self.melt_tau.unwrap_or(if lattice { 20.0 } else { 0.0 });
+        let sim = if melt > 0.0 {
+            let mut sim =
+                Simulation::<D, B, Elastic, C>::new(self.box_len, particles, Elastic, params)?;
+            sim.run(Stop::Tau(melt));
+            sim.with_rule(rule)
+        } else {
+            Simulation::<D, B, R, C>::new(self.box_len, particles, rule, params)?
+        };
+        let mut sim = sim;
+        let t = sim.temperature();
+        if melt > 0.0 && t > 0.0 {
+            sim.scale_velocities((self.temperature / t).sqrt());
+        }
+        sim.reset_counters();
+        Ok(sim)
+    }
+}
+
+/// Volume of a D-ball of radius r.
+pub fn unit_volume<const D: usize>(r: f64) -> f64 {
+    if D == 2 {
+        std::f64::consts::PI * r * r
+    } else {
+        4.0 / 3.0 * std::f64::consts::PI * r.powi(3)
+    }
+}

@@ -1,0 +1,79 @@
+//! Initial states: densities, limits, momenta and temperatures.
+
+use super::*;
+use crate::{Periodic, Walls};
+
+#[test]
+fn random_start_has_exact_temperature_and_no_momentum() {
+    let mut p = InitParams::<2>::with_packing(500, 0.2).unwrap();
+    p.velocities = Velocities::Uniform;
+    p.temperature = 1.0 / 3.0;
+    let sim = p.build::<Periodic, _>(Elastic).unwrap();
+    let o = sim.observe();
+    assert!((o.temperature - 1.0 / 3.0).abs() < 1e-14);
+    assert!(o.momentum.norm() < 1e-13 * o.momentum_scale);
+    assert!(sim.deepest_overlap().unwrap().2 < 0.0);
+}
+
+#[test]
+fn lattice_reaches_dense_states() {
+    for (phi, walls) in [(0.7, false), (0.7, true)] {
+        let mut p = InitParams::<2>::with_packing(400, phi).unwrap();
+        p.melt_tau = Some(0.0);
+        let sim = if walls {
+            p.build::<Walls, _>(Elastic).map(|s| s.deepest_overlap())
+        } else {
+            p.build::<Periodic, _>(Elastic).map(|s| s.deepest_overlap())
+        };
+        assert!(sim.unwrap().unwrap().2 <= 1e-12, "phi {phi} walls {walls}");
+    }
+    let mut p = InitParams::<3>::with_packing(1000, 0.5).unwrap();
+    p.melt_tau = Some(0.0);
+    assert!(
+        p.build::<Periodic, _>(Elastic)
+            .unwrap()
+            .deepest_overlap()
+            .unwrap()
+            .2
+            <= 1e-12
+    );
+}
+
+#[test]
+fn too_dense_is_an_error_naming_the_limit() {
+    let mut p = InitParams::<2>::with_packing(400, 0.6).unwrap();
+    p.placement = Placement::Random;
+    let e = p.build::<Periodic, _>(Elastic).unwrap_err();
+    assert!(
+        matches!(
+            e,
+            EdmdError::TooDense {
+                method: "random",
+                ..
+            }
+        ),
+        "{e}"
+    );
+    let p = InitParams::<2>::with_packing(400, 0.95).unwrap();
+    let e = p.build::<Periodic, _>(Elastic).unwrap_err().to_string();
+    assert!(e.contains("lattice") && e.contains("0.9500"), "{e}");
+}
+
+#[test]
+fn bad_parameters_name_the_field() {
+    let e = InitParams::<2>::with_packing(0, 0.2)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("N = 0"), "{e}");
+    let e = InitParams::<2>::with_packing(10, 1.2)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("phi = 1.2"), "{e}");
+    let mut p = InitParams::<2>::with_packing(10, 0.1).unwrap();
+    p.radius = -1.0;
+    let e = p.build::<Periodic, _>(Elastic).unwrap_err().to_string();
+    assert!(e.contains("radius = -1"), "{e}");
+    let p = InitParams::<2>::in_box(10, Vector::<2>::new(2.5, 10.0));
+    let e = p.build::<Periodic, _>(Elastic).unwrap_err().to_string();
+    assert!(e.contains("Lx = 2.5"), "{e}");
+}
