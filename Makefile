@@ -38,7 +38,7 @@ build:
 	$(CARGO) build --release --workspace --all-targets
 
 run: deps
-	$(CARGO) run --release -q -p edmd-sweep --bin edmd -- run -o edmd-out/quick
+	$(CARGO) run --release -q -p edmd-cli --bin edmd -- run -o edmd-out/quick
 	$(VENV)/bin/python -m edmd_analysis report edmd-out/quick -o edmd-out/quick/report
 
 # The report (PNG figures and index.html) of the quick sweep; `make figures OUT=dir` for another sweep.
@@ -51,7 +51,7 @@ demo:
 
 # The release binary the Python tests drive.
 cli:
-	$(CARGO) build --release -q -p edmd-sweep --bin edmd
+	$(CARGO) build --release -q -p edmd-cli --bin edmd
 
 lint:
 	$(CARGO) fmt --all -- --check
@@ -92,7 +92,7 @@ bench-nightly:
 # Run time against error: collapse remedies, statistics, classification (table + PNG in bench-out/accuracy).
 bench-accuracy: deps
 	$(CARGO) build --release -q --bin edmd-accuracy -p edmd
-	$(CARGO) build --release -q -p edmd-sweep --bin edmd
+	$(CARGO) build --release -q -p edmd-cli --bin edmd
 	$(VENV)/bin/python scripts/bench-accuracy.py -o bench-out/accuracy
 
 # A real single-node Slurm (munge, slurmctld, slurmd from Debian's packages): a 4-task array sweep

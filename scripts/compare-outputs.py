@@ -1,6 +1,8 @@
 #!/usr/bin/env python3
 """Compares the replica files of two sweep outputs: every dataset byte for byte and every attribute
-(the run-dependent wall_s excepted). Exits 1 at the first difference.
+but the two that describe the run rather than its result: wall_s (the replica's wall-clock time) and
+git_commit (the commit the binary was built from, which differs whenever two builds are compared).
+Exits 1 at the first difference.
 
     .venv/bin/python scripts/compare-outputs.py OUT_A OUT_B
 """
@@ -11,6 +13,9 @@ import sys
 
 import h5py
 import numpy as np
+
+
+RUN_ATTRIBUTES = {"wall_s", "git_commit"}
 
 
 def main(a: str, b: str) -> int:
@@ -25,7 +30,7 @@ def main(a: str, b: str) -> int:
             def visit(path, obj):
                 other = y[path]
                 for key, value in obj.attrs.items():
-                    if key == "wall_s":
+                    if key in RUN_ATTRIBUTES:
                         continue
                     v, w = np.asarray(value), np.asarray(other.attrs[key])
                     same = v.shape == w.shape and (
@@ -41,7 +46,7 @@ def main(a: str, b: str) -> int:
 
             x.visititems(visit)
     print(f"{len(names_a)} replica files: {counts['datasets']} datasets bit-identical, "
-          f"{counts['attributes']} attributes equal (wall_s excluded)")
+          f"{counts['attributes']} attributes equal ({', '.join(sorted(RUN_ATTRIBUTES))} excluded)")
     return 0
 
 

@@ -37,6 +37,7 @@ pub mod observe;
 pub mod order;
 pub mod predict;
 mod prefetch;
+pub mod schedule;
 pub mod sim;
 pub mod state;
 pub mod theory;
@@ -53,7 +54,8 @@ pub use collide::{
 };
 pub use error::EdmdError;
 pub use init::{InitParams, Placement, Velocities};
-pub use observe::{decay_rate, Observables, Schedule, VirialMeter, VirialReading};
+pub use observe::{decay_rate, Observables, VirialMeter, VirialReading};
 pub use order::{order_parameters, OrderParameters};
+pub use schedule::Schedule;
 pub use sim::{Collapse, CollapseReason, Counters, EventKind, RunEnd, SimParams, Simulation, Stop};
 pub use state::{Particle, ParticleInit};

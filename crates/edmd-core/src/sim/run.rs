@@ -96,7 +96,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     pub fn run_sampled(
         &mut self,
         stop: Stop,
-        schedule: &crate::Schedule,
+        schedule: &crate::schedule::Schedule,
         observe: impl FnMut(&Self),
     ) -> RunEnd {
         match self.nl {
@@ -109,7 +109,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     fn run_sampled_with<S: Search>(
         &mut self,
         stop: Stop,
-        schedule: &crate::Schedule,
+        schedule: &crate::schedule::Schedule,
         mut observe: impl FnMut(&Self),
     ) -> RunEnd {
         let n = self.len() as f64;

@@ -3,48 +3,18 @@
 
 use std::time::Instant;
 
-use edmd_core::theory::{critical_sizes, haff_rate, haff_temperature_tau, Transport};
+use edmd_core::theory::{haff_rate, haff_temperature_tau};
 use edmd_core::{
     order_parameters, Boundary, Channel, CollisionRule, ConstantRestitution, EdmdError, InitParams,
     Periodic, RandomRotation, RunEnd, Schedule, Simulation, Stop, TcModel, ThesisRestitution,
-    ThresholdRestitution, Vector, Velocities, VirialMeter, Viscoelastic, Walls,
+    ThresholdRestitution, Vector, Velocities, VirialMeter, Walls,
 };
 
-use crate::classify::{classify, settled, Class, Classification, OrderSeries, Theory};
-use crate::spec::{BoundaryKind, Remedy, Replica, RuleSpec, Spec, VelocityKind};
-use crate::SweepError;
-
-/// How a replica ended.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Status {
-    /// Reached its stop condition (or ran out of events).
-    Done,
-    /// Inelastic collapse was detected; the data up to the collapse are kept.
-    Collapsed,
-    /// Could not be set up (e.g. a start that cannot reach the density).
-    Failed,
-}
-
-impl Status {
-    /// The name used in files and tables.
-    pub fn name(self) -> &'static str {
-        match self {
-            Status::Done => "done",
-            Status::Collapsed => "collapsed",
-            Status::Failed => "failed",
-        }
-    }
-
-    /// Parses a name written by [`Status::name`].
-    pub fn parse(s: &str) -> Option<Status> {
-        match s {
-            "done" => Some(Status::Done),
-            "collapsed" => Some(Status::Collapsed),
-            "failed" => Some(Status::Failed),
-            _ => None,
-        }
-    }
-}
+use crate::classify::{
+    classify, critical_box_sides, settled, Class, Classification, OrderSeries, Theory,
+};
+pub use crate::record::Status;
+use crate::spec::{viscoelastic, BoundaryKind, Remedy, Replica, RuleSpec, Spec, VelocityKind};
 
 /// Observables sampled at the points of the schedule.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -147,42 +117,6 @@ impl Outcome {
     }
 }
 
-/// Static checks of one replica that need no simulation: the box holds a cell list and the rule
-/// can be built. Errors name the replica.
-pub fn check(spec: &Spec, r: &Replica) -> Result<(), SweepError> {
-    let side = r.side();
-    if !(side >= 3.0) {
-        return Err(SweepError::Spec(format!(
-            "{r}: box side L = {side:.3} is below 3 particle diameters (the smallest cell list); raise N or lower phi"
-        )));
-    }
-    let phi = r.phi();
-    if !(phi < crate::spec::close_packing(r.dim)) {
-        return Err(SweepError::Spec(format!(
-            "{r}: packing fraction phi = {phi:.4} is above close packing ({:.4})",
-            crate::spec::close_packing(r.dim)
-        )));
-    }
-    base_rule_check(spec, r).map_err(|e| SweepError::Spec(format!("{r}: {e}")))
-}
-
-fn base_rule_check(spec: &Spec, r: &Replica) -> Result<(), EdmdError> {
-    match spec.rule {
-        RuleSpec::Constant => ConstantRestitution::new(r.eps).map(drop),
-        RuleSpec::Threshold { delta, eps_low } => {
-            ThresholdRestitution::new(r.eps, eps_low, delta).map(drop)
-        }
-        RuleSpec::Thesis { v0 } => ThesisRestitution::new(r.eps, v0).map(drop),
-        RuleSpec::Viscoelastic { speed } => viscoelastic(r.eps, speed).map(drop),
-    }
-}
-
-/// Damping such that two unit-mass, unit-diameter particles meet with ε at `speed`. The stiffness
-/// only sets the unit of the damping, so Young's modulus 1 and Poisson ratio 0.3 are used.
-fn viscoelastic(eps: f64, speed: f64) -> Result<Viscoelastic, EdmdError> {
-    Viscoelastic::from_reference(eps, speed, 0.5, 0.25, 1.0, 0.3)
-}
-
 /// Runs a replica. `progress` is called with the number of new pair collisions every so often.
 pub fn run(spec: &Spec, r: &Replica, progress: &(dyn Fn(u64) + Sync)) -> Outcome {
     let start = Instant::now();
@@ -261,15 +195,8 @@ fn by_remedy<const D: usize, B: Boundary, R: CollisionRule<State = ()>>(
 
 /// What linear theory says about a replica's box (critical sizes halved when any axis has walls).
 pub fn theory(spec: &Spec, r: &Replica) -> Theory {
-    let (mut lp, mut lq) = if r.eps < 1.0 {
-        critical_sizes(r.dim, r.eps, r.phi(), 1.0, Transport::Enskog)
-    } else {
-        (f64::INFINITY, f64::INFINITY)
-    };
-    if r.boundary != BoundaryKind::Periodic {
-        lp *= 0.5;
-        lq *= 0.5;
-    }
+    let periodic = r.boundary == BoundaryKind::Periodic;
+    let (lp, lq) = critical_box_sides(r.dim, r.eps, r.phi(), periodic);
     let grid = spec
         .classify
         .as_ref()
@@ -518,7 +445,7 @@ fn simulate<const D: usize, B: Boundary, R: CollisionRule>(
     let radius = vec![p.radius; r.n];
     let classification = spec.classify.as_ref().map(|c| match status {
         Status::Done => classify(&series.order, &c.thresholds, &theory),
-        Status::Collapsed | Status::Failed => Classification {
+        Status::Collapsed | Status::Failed | Status::Missing => Classification {
             class: if status == Status::Collapsed {
                 Class::Collapsed
             } else {

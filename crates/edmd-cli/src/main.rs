@@ -3,10 +3,13 @@
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use clap::{Parser, Subcommand};
+use anyhow::{bail, Context};
+use clap::{Parser, Subcommand, ValueEnum};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use edmd_sweep::output::OutDir;
-use edmd_sweep::run::{run_sweep, RunOptions};
+use edmd_sweep::record::Status;
+use edmd_sweep::run::{run_sweep, Progress, RunOptions};
 use edmd_sweep::spec::{Shard, Spec};
 use edmd_sweep::summary::{phase_table, render, Format};
 use edmd_sweep::{merge, SweepError, QUICK_SPEC};
@@ -56,8 +59,8 @@ enum Command {
         #[arg(short, long)]
         quiet: bool,
         /// Format of the phase table printed at the end.
-        #[arg(long, value_enum, default_value_t = Format::Table)]
-        format: Format,
+        #[arg(long, value_enum, default_value_t = FormatArg::Table)]
+        format: FormatArg,
     },
     /// Show how many replicas of a sweep output are finished, failed, partial or pending.
     Status {
@@ -78,8 +81,8 @@ enum Command {
         /// Sweep output directory.
         out: PathBuf,
         /// Output format.
-        #[arg(long, value_enum, default_value_t = Format::Table)]
-        format: Format,
+        #[arg(long, value_enum, default_value_t = FormatArg::Table)]
+        format: FormatArg,
     },
     /// Check a sweep spec and print the size of its grid, without running anything.
     ValidateSpec {
@@ -88,15 +91,72 @@ enum Command {
     },
 }
 
-fn load_spec(path: Option<&Path>) -> Result<Spec, SweepError> {
+/// Output format of a phase table (the library's [`Format`], as a command-line value).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum FormatArg {
+    /// Aligned text for the terminal.
+    Table,
+    /// Comma-separated values with a header line.
+    Csv,
+    /// A JSON array of objects.
+    Json,
+}
+
+impl From<FormatArg> for Format {
+    fn from(f: FormatArg) -> Format {
+        match f {
+            FormatArg::Table => Format::Table,
+            FormatArg::Csv => Format::Csv,
+            FormatArg::Json => Format::Json,
+        }
+    }
+}
+
+/// The progress bar on stderr (hidden with `--quiet` or when stderr is not a terminal).
+struct Bar(ProgressBar);
+
+impl Bar {
+    fn new(quiet: bool) -> Bar {
+        let bar = if quiet {
+            ProgressBar::hidden()
+        } else {
+            ProgressBar::with_draw_target(Some(1), ProgressDrawTarget::stderr())
+        };
+        bar.set_style(
+            ProgressStyle::with_template(
+                "{spinner} [{elapsed_precise}] {bar:30} {msg} | {per_sec} collisions | ETA {eta}",
+            )
+            .expect("valid template"),
+        );
+        Bar(bar)
+    }
+}
+
+impl Progress for Bar {
+    fn start(&self, replicas: usize, collisions: u64) {
+        self.0.set_length(collisions.max(1));
+        self.0.set_message(format!("0/{replicas} replicas"));
+    }
+    fn advance(&self, collisions: u64) {
+        self.0.inc(collisions);
+    }
+    fn replica_done(&self, done: usize, replicas: usize) {
+        self.0.set_message(format!("{done}/{replicas} replicas"));
+    }
+    fn finish(&self) {
+        self.0.finish_and_clear();
+    }
+}
+
+fn load_spec(path: Option<&Path>) -> anyhow::Result<Spec> {
     match path {
-        None => Spec::from_json(QUICK_SPEC),
+        None => Ok(Spec::from_json(QUICK_SPEC)?),
         Some(p) => {
             let text = std::fs::read_to_string(p)
-                .map_err(|e| SweepError::Usage(format!("cannot read spec {}: {e}", p.display())))?;
+                .with_context(|| format!("cannot read spec {}", p.display()))?;
             Spec::from_json(&text).map_err(|e| match e {
-                SweepError::Spec(m) => SweepError::Spec(format!("{}: {m}", p.display())),
-                other => other,
+                SweepError::Spec(m) => SweepError::Spec(format!("{}: {m}", p.display())).into(),
+                other => other.into(),
             })
         }
     }
@@ -107,13 +167,13 @@ fn main() -> ExitCode {
     match execute(cli.command) {
         Ok(code) => code,
         Err(e) => {
-            eprintln!("error: {e}");
+            eprintln!("error: {e:#}");
             ExitCode::from(1)
         }
     }
 }
 
-fn execute(command: Command) -> Result<ExitCode, SweepError> {
+fn execute(command: Command) -> anyhow::Result<ExitCode> {
     match command {
         Command::Run {
             spec,
@@ -127,9 +187,7 @@ fn execute(command: Command) -> Result<ExitCode, SweepError> {
             let spec_value = load_spec(spec.as_deref())?;
             let shard = shard.as_deref().map(Shard::parse).transpose()?;
             if threads == Some(0) {
-                return Err(SweepError::Usage(
-                    "--threads 0: need at least one thread".into(),
-                ));
+                bail!("--threads 0: need at least one thread");
             }
             let root = out.unwrap_or_else(|| Path::new("edmd-out").join(&spec_value.name));
             let dir = OutDir::prepare(&root, &spec_value, force)?;
@@ -137,9 +195,8 @@ fn execute(command: Command) -> Result<ExitCode, SweepError> {
                 threads,
                 shard,
                 force,
-                quiet,
             };
-            let report = run_sweep(&spec_value, &dir, &opts)?;
+            let report = run_sweep(&spec_value, &dir, &opts, &Bar::new(quiet))?;
             eprintln!(
                 "{}: ran {} of {} replicas{} ({} pair collisions in {:.1} s, {:.3e} collisions/s) into {}",
                 spec_value.name,
@@ -160,7 +217,10 @@ fn execute(command: Command) -> Result<ExitCode, SweepError> {
                 );
             }
             match &report.records {
-                Some(records) => print!("{}", render(&phase_table(&spec_value, records), format)),
+                Some(records) => print!(
+                    "{}",
+                    render(&phase_table(&spec_value, records), format.into())
+                ),
                 None => eprintln!(
                     "other shards are still missing: once all have run, `edmd merge {}` builds the index",
                     root.display()
@@ -187,20 +247,20 @@ fn execute(command: Command) -> Result<ExitCode, SweepError> {
                 .iter()
                 .filter(|r| dir.part_path(r).exists())
                 .count();
-            let count = |s: &str| records.iter().filter(|r| r.status == s).count();
+            let count = |s: Status| records.iter().filter(|r| r.status == s).count();
             println!(
                 "{}: {} replicas: {} done, {} collapsed, {} failed, {} in flight or partial, {} pending",
                 spec.name,
                 records.len(),
-                count("done"),
-                count("collapsed"),
-                count("failed"),
+                count(Status::Done),
+                count(Status::Collapsed),
+                count(Status::Failed),
                 partial,
-                count("missing") - partial
+                count(Status::Missing) - partial
             );
             for r in records
                 .iter()
-                .filter(|r| r.status == "failed" || r.status == "collapsed")
+                .filter(|r| matches!(r.status, Status::Failed | Status::Collapsed))
             {
                 println!("  {} r{:05}: {}", r.status, r.index, r.message);
             }
@@ -211,7 +271,7 @@ fn execute(command: Command) -> Result<ExitCode, SweepError> {
             let records = merge::merge(&inputs, &target)?;
             let missing: Vec<usize> = records
                 .iter()
-                .filter(|r| r.status == "missing")
+                .filter(|r| r.status == Status::Missing)
                 .map(|r| r.index)
                 .collect();
             eprintln!(
@@ -234,7 +294,7 @@ fn execute(command: Command) -> Result<ExitCode, SweepError> {
         Command::Summarize { out, format } => {
             let (dir, spec) = OutDir::open(&out)?;
             let records = dir.records(&spec)?;
-            print!("{}", render(&phase_table(&spec, &records), format));
+            print!("{}", render(&phase_table(&spec, &records), format.into()));
             Ok(ExitCode::SUCCESS)
         }
         Command::ValidateSpec { spec } => {

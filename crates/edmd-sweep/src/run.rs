@@ -1,17 +1,17 @@
-//! Running a sweep: the replicas of a shard across a rayon pool, skipping finished ones, with a
-//! progress bar, each replica written atomically as soon as it ends.
+//! Running a sweep: the replicas of a shard across a rayon pool, skipping finished ones, each replica
+//! written atomically as soon as it ends; progress goes to the caller's [`Progress`].
 
 use std::fs;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Mutex;
 use std::time::Instant;
 
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rayon::prelude::*;
 
-use crate::h5md::{write_replica, Record};
+use crate::h5md::{read_record, write_replica};
 use crate::output::OutDir;
-use crate::replica::{self, Status};
+use crate::record::{Record, Status};
+use crate::replica;
 use crate::spec::{Replica, Shard, Spec};
 use crate::SweepError;
 
@@ -24,9 +24,32 @@ pub struct RunOptions {
     pub shard: Option<Shard>,
     /// Replace the output of a different spec.
     pub force: bool,
-    /// No progress bar.
-    pub quiet: bool,
 }
+
+/// Where a run reports its progress (the CLI draws a bar from it). Every method has a default that
+/// does nothing; calls come from the worker threads.
+pub trait Progress: Sync {
+    /// The run starts: `replicas` to run, about `collisions` pair collisions in all.
+    fn start(&self, replicas: usize, collisions: u64) {
+        let _ = (replicas, collisions);
+    }
+    /// `collisions` more pair collisions ran (a replica that ends early settles its estimate here).
+    fn advance(&self, collisions: u64) {
+        let _ = collisions;
+    }
+    /// A replica's file was written: `done` of the run's `replicas` are finished.
+    fn replica_done(&self, done: usize, replicas: usize) {
+        let _ = (done, replicas);
+    }
+    /// The run ended (also after an error).
+    fn finish(&self) {}
+}
+
+/// Reports nothing.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Silent;
+
+impl Progress for Silent {}
 
 /// What a run did.
 #[derive(Debug, Clone)]
@@ -55,7 +78,12 @@ fn estimated_collisions(spec: &Spec, r: &Replica) -> u64 {
 }
 
 /// Runs the replicas of `opts.shard` of `spec` into `out`.
-pub fn run_sweep(spec: &Spec, out: &OutDir, opts: &RunOptions) -> Result<RunReport, SweepError> {
+pub fn run_sweep(
+    spec: &Spec,
+    out: &OutDir,
+    opts: &RunOptions,
+    progress: &dyn Progress,
+) -> Result<RunReport, SweepError> {
     let start = Instant::now();
     let shard = opts.shard.unwrap_or(Shard { k: 0, n: 1 });
     let mine: Vec<Replica> = spec
@@ -67,9 +95,7 @@ pub fn run_sweep(spec: &Spec, out: &OutDir, opts: &RunOptions) -> Result<RunRepo
     for r in &mine {
         let part = out.part_path(r);
         if part.exists() {
-            fs::remove_file(&part).map_err(|e| {
-                SweepError::Output(format!("cannot remove {}: {e}", part.display()))
-            })?;
+            fs::remove_file(&part).map_err(|e| SweepError::io("cannot remove", &part, e))?;
         }
     }
     let mut todo: Vec<&Replica> = mine.iter().filter(|r| !out.is_done(r)).collect();
@@ -77,20 +103,9 @@ pub fn run_sweep(spec: &Spec, out: &OutDir, opts: &RunOptions) -> Result<RunRepo
     todo.sort_by_key(|r| std::cmp::Reverse(estimated_collisions(spec, r)));
     let total: u64 = todo.iter().map(|r| estimated_collisions(spec, r)).sum();
 
-    let bar = if opts.quiet {
-        ProgressBar::hidden()
-    } else {
-        ProgressBar::with_draw_target(Some(total.max(1)), ProgressDrawTarget::stderr())
-    };
-    bar.set_style(
-        ProgressStyle::with_template(
-            "{spinner} [{elapsed_precise}] {bar:30} {msg} | {human_per_sec} collisions/s | ETA {eta}",
-        )
-        .expect("valid template"),
-    );
     let n_todo = todo.len();
     let done_count = AtomicU64::new(0);
-    bar.set_message(format!("0/{n_todo} replicas"));
+    progress.start(n_todo, total);
     let collisions = AtomicU64::new(0);
     let simulate_ns = AtomicU64::new(0);
     let write_ns = AtomicU64::new(0);
@@ -103,15 +118,15 @@ pub fn run_sweep(spec: &Spec, out: &OutDir, opts: &RunOptions) -> Result<RunRepo
             if first_error.lock().expect("lock").is_some() {
                 return;
             }
-            let progress = |c: u64| {
+            let report = |c: u64| {
                 collisions.fetch_add(c, Ordering::Relaxed);
-                bar.inc(c);
+                progress.advance(c);
             };
-            let outcome = replica::run(spec, r, &progress);
+            let outcome = replica::run(spec, r, &report);
             // Settle the bar: the estimate becomes what the replica really ran.
             let est = estimated_collisions(spec, r);
             if outcome.collisions < est {
-                bar.inc(est - outcome.collisions);
+                progress.advance(est - outcome.collisions);
             }
             simulate_ns.fetch_add((outcome.wall_s * 1e9) as u64, Ordering::Relaxed);
             let t = Instant::now();
@@ -122,7 +137,7 @@ pub fn run_sweep(spec: &Spec, out: &OutDir, opts: &RunOptions) -> Result<RunRepo
                 return;
             }
             let k = done_count.fetch_add(1, Ordering::Relaxed) + 1;
-            bar.set_message(format!("{k}/{n_todo} replicas"));
+            progress.replica_done(k as usize, n_todo);
         });
     };
     match opts.threads {
@@ -133,7 +148,7 @@ pub fn run_sweep(spec: &Spec, out: &OutDir, opts: &RunOptions) -> Result<RunRepo
             .install(work),
         None => work(),
     }
-    bar.finish_and_clear();
+    progress.finish();
     if let Some(e) = first_error.into_inner().expect("lock") {
         return Err(e);
     }
@@ -142,10 +157,9 @@ pub fn run_sweep(spec: &Spec, out: &OutDir, opts: &RunOptions) -> Result<RunRepo
     let hash = spec.hash();
     let mut problems = Vec::new();
     for r in &mine {
-        let rec = crate::h5md::read_record(&out.replica_path(r), &hash)?;
-        let status = Status::parse(&rec.status).unwrap_or(Status::Failed);
-        if status != Status::Done {
-            problems.push((r.clone(), status, rec.message));
+        let rec = read_record(&out.replica_path(r), &hash)?;
+        if rec.status != Status::Done {
+            problems.push((r.clone(), rec.status, rec.message));
         }
     }
     let complete = spec.replicas().iter().all(|r| out.is_done(r));

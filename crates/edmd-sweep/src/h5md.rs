@@ -21,7 +21,8 @@ use hdf5::types::VarLenUnicode;
 use hdf5::{Group, Location};
 use ndarray::{Array1, Array3};
 
-use crate::replica::{Outcome, Snapshot, Status};
+use crate::record::{Record, Status};
+use crate::replica::{Outcome, Snapshot};
 use crate::spec::{Replica, Spec};
 use crate::SweepError;
 
@@ -30,94 +31,6 @@ pub const SCHEMA_VERSION: i64 = 1;
 
 /// The commit the binary was built from ("unknown" outside a git checkout).
 pub const GIT_COMMIT: &str = env!("EDMD_GIT_COMMIT");
-
-/// One row of the sweep index: a replica's parameters, status and final values.
-#[derive(Debug, Clone, PartialEq, serde::Serialize)]
-pub struct Record {
-    /// Replica index.
-    pub index: usize,
-    /// File name relative to `OUT/replicas/` (empty when missing).
-    pub file: String,
-    /// `done`, `collapsed`, `failed` or `missing`.
-    pub status: String,
-    /// Why the replica failed or stopped early.
-    pub message: String,
-    /// Dimension.
-    pub dim: usize,
-    /// Boundary name.
-    pub boundary: String,
-    /// Restitution.
-    pub eps: f64,
-    /// Packing fraction.
-    pub phi: f64,
-    /// Box side.
-    pub box_side: f64,
-    /// Particle number.
-    pub n: usize,
-    /// Seed number within the grid point.
-    pub seed_index: u32,
-    /// Seed of the initial state.
-    pub seed: u64,
-    /// Remedy label.
-    pub remedy: String,
-    /// τ at the end.
-    pub tau: f64,
-    /// Physical time at the end.
-    pub time: f64,
-    /// ln(T/T0) at the end.
-    pub ln_temperature_ratio: f64,
-    /// Pair collisions run.
-    pub collisions: u64,
-    /// τ of a detected collapse (NaN if none).
-    pub collapse_tau: f64,
-    /// Wall-clock seconds of the replica.
-    pub wall_s: f64,
-    /// Regime (`kinetic`, `shearing`, `clustering`, `collapsed`, `failed`), or `unclassified`.
-    pub class: String,
-    /// First τ of the shearing predicate (NaN if never or unclassified).
-    pub shear_onset_tau: f64,
-    /// First τ of the clustering predicate (NaN if never or unclassified).
-    pub cluster_onset_tau: f64,
-    /// f_flow at the end.
-    pub f_flow: f64,
-    /// S⊥(k₁) at the end.
-    pub s_perp: f64,
-    /// δ²ρ − δ²ρ(0) at the end.
-    pub delta_rho2: f64,
-}
-
-impl Record {
-    /// The record of a replica without a file.
-    pub fn missing(r: &Replica) -> Record {
-        Record {
-            index: r.index,
-            file: String::new(),
-            status: "missing".into(),
-            message: String::new(),
-            dim: r.dim,
-            boundary: r.boundary.name().into(),
-            eps: r.eps,
-            phi: r.phi(),
-            box_side: r.side(),
-            n: r.n,
-            seed_index: r.seed_index,
-            seed: r.seed,
-            remedy: r.remedy.label(),
-            tau: f64::NAN,
-            time: f64::NAN,
-            ln_temperature_ratio: f64::NAN,
-            collisions: 0,
-            collapse_tau: f64::NAN,
-            wall_s: f64::NAN,
-            class: "missing".into(),
-            shear_onset_tau: f64::NAN,
-            cluster_onset_tau: f64::NAN,
-            f_flow: f64::NAN,
-            s_perp: f64::NAN,
-            delta_rho2: f64::NAN,
-        }
-    }
-}
 
 fn vlu(s: &str) -> VarLenUnicode {
     // Interior NUL bytes are the only thing VarLenUnicode rejects; they never occur in our strings.
@@ -266,10 +179,9 @@ pub fn write_replica(
     let result = write_file(&part, spec, r, out);
     if let Err(e) = result {
         let _ = std::fs::remove_file(&part);
-        return Err(SweepError::Output(format!("{}: {e}", part.display())));
+        return Err(SweepError::hdf5(&part, e));
     }
-    std::fs::rename(&part, path)
-        .map_err(|e| SweepError::Output(format!("renaming {}: {e}", part.display())))
+    std::fs::rename(&part, path).map_err(|e| SweepError::io("cannot rename", &part, e))
 }
 
 fn write_file(part: &Path, spec: &Spec, r: &Replica, out: &Outcome) -> hdf5::Result<()> {
@@ -441,7 +353,7 @@ fn read_i64(g: &Group, name: &str) -> hdf5::Result<i64> {
 
 /// Reads the index record of a replica file, checking its schema version and spec hash.
 pub fn read_record(path: &Path, spec_hash: &str) -> Result<Record, SweepError> {
-    let err = |e: hdf5::Error| SweepError::Output(format!("{}: {e}", path.display()));
+    let err = |e: hdf5::Error| SweepError::hdf5(path, e);
     let file = hdf5::File::open(path).map_err(err)?;
     let p = file.group("parameters").map_err(err)?;
     let version = read_i64(&p, "schema_version").map_err(err)?;
@@ -465,7 +377,7 @@ pub fn read_record(path: &Path, spec_hash: &str) -> Result<Record, SweepError> {
                 .file_name()
                 .map(|f| f.to_string_lossy().into_owned())
                 .unwrap_or_default(),
-            status: read_str(&p, "status")?,
+            status: Status::Missing,
             message: read_str(&p, "message")?,
             dim: read_i64(&p, "dim")? as usize,
             boundary: read_str(&p, "boundary")?,
@@ -491,12 +403,12 @@ pub fn read_record(path: &Path, spec_hash: &str) -> Result<Record, SweepError> {
         })
     })()
     .map_err(err)?;
-    if Status::parse(&rec.status).is_none() {
-        return Err(SweepError::Output(format!(
-            "{}: unknown status {:?}",
-            path.display(),
-            rec.status
-        )));
+    let status = read_str(&p, "status").map_err(err)?;
+    match status.parse::<Status>() {
+        Ok(s) if s != Status::Missing => Ok(Record { status: s, ..rec }),
+        _ => Err(SweepError::Output(format!(
+            "{}: unknown status {status:?}",
+            path.display()
+        ))),
     }
-    Ok(rec)
 }

@@ -19,6 +19,7 @@
 //! clustering predicates are reported. A kinetic label gets a note saying whether linear theory
 //! predicts stability (L < L⊥) or whether the run ended before the onset time 3/r⊥.
 
+use edmd_core::theory::{critical_sizes, Transport};
 use serde::{Deserialize, Serialize};
 
 /// Thresholds of the classifier, with the defaults of PHYSICS.md §5.2.
@@ -141,6 +142,21 @@ impl Theory {
     /// Linear growth rate r⊥ of the slowest shear mode per unit τ: k(ε)(1 − (L⊥/L)²).
     pub fn r_perp(&self, k: f64) -> f64 {
         k * (1.0 - self.l_over_l_perp.powi(-2))
+    }
+}
+
+/// The critical box sides (L⊥, L∥) of the Enskog linear stability analysis (PHYSICS.md §3.1) for a
+/// periodic box, or halved for a walled one (a wall reflects the longest mode into half a
+/// wavelength). Infinite for elastic gases. The summary and the classifier both take them here.
+pub fn critical_box_sides(dim: usize, eps: f64, phi: f64, periodic: bool) -> (f64, f64) {
+    if !(eps < 1.0) {
+        return (f64::INFINITY, f64::INFINITY);
+    }
+    let (lp, lq) = critical_sizes(dim, eps, phi, 1.0, Transport::Enskog);
+    if periodic {
+        (lp, lq)
+    } else {
+        (lp * 0.5, lq * 0.5)
     }
 }
 

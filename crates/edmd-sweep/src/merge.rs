@@ -4,8 +4,8 @@
 use std::fs;
 use std::path::{Path, PathBuf};
 
-use crate::h5md::Record;
 use crate::output::OutDir;
+use crate::record::Record;
 use crate::SweepError;
 
 /// Merges the sweep outputs `inputs` into `target` (which may be one of them) and writes the index.
@@ -45,7 +45,7 @@ pub fn merge(inputs: &[PathBuf], target: &Path) -> Result<Vec<Record>, SweepErro
                 .and_then(|_| fs::rename(&part, out.replica_path(&r)))
                 .map_err(|e| {
                     let _ = fs::remove_file(&part);
-                    SweepError::Output(format!("copying {}: {e}", src.display()))
+                    SweepError::io("cannot copy", &src, e)
                 })?;
         }
     }

@@ -1,12 +1,14 @@
 //! The phase table: one row per grid point (all parameters but the seed), aggregated over seeds, with
 //! the theory's critical sizes for comparison.
 
-use edmd_core::theory::{critical_sizes, haff_rate, Transport};
+use std::str::FromStr;
+
+use edmd_core::theory::haff_rate;
 use serde::Serialize;
 
-use crate::h5md::Record;
-use crate::output::csv_field;
-use crate::spec::{RuleSpec, Spec};
+use crate::classify::critical_box_sides;
+use crate::record::{Record, Status};
+use crate::spec::{BoundaryKind, RuleSpec, Spec};
 
 /// One grid point of a sweep.
 #[derive(Debug, Clone, Serialize)]
@@ -90,11 +92,8 @@ pub fn phase_table(spec: &Spec, records: &[Record]) -> Vec<PointRow> {
         .into_iter()
         .map(|g| {
             let first = g[0];
-            let count = |s: &str| g.iter().filter(|r| r.status == s).count();
-            let ran: Vec<&&Record> = g
-                .iter()
-                .filter(|r| r.status == "done" || r.status == "collapsed")
-                .collect();
+            let count = |s: Status| g.iter().filter(|r| r.status == s).count();
+            let ran: Vec<&&Record> = g.iter().filter(|r| r.status.has_data()).collect();
             let tau_end = median(ran.iter().map(|r| r.tau).collect());
             let ln10 = std::f64::consts::LN_10;
             let log10_t_ratio = median(ran.iter().map(|r| r.ln_temperature_ratio / ln10).collect());
@@ -103,15 +102,8 @@ pub fn phase_table(spec: &Spec, records: &[Record]) -> Vec<PointRow> {
             } else {
                 f64::NAN
             };
-            let (mut lp, mut lq) = if first.eps < 1.0 {
-                critical_sizes(first.dim, first.eps, first.phi, 1.0, Transport::Enskog)
-            } else {
-                (f64::INFINITY, f64::INFINITY)
-            };
-            if first.boundary != "periodic" {
-                lp *= 0.5;
-                lq *= 0.5;
-            }
+            let periodic = first.boundary == BoundaryKind::Periodic.name();
+            let (lp, lq) = critical_box_sides(first.dim, first.eps, first.phi, periodic);
             let classified = spec.classify.is_some();
             let frac = |c: &str| {
                 if classified {
@@ -134,10 +126,10 @@ pub fn phase_table(spec: &Spec, records: &[Record]) -> Vec<PointRow> {
                 box_side: first.box_side,
                 eps: first.eps,
                 seeds: g.len(),
-                done: count("done"),
-                collapsed: count("collapsed"),
-                failed: count("failed"),
-                missing: count("missing"),
+                done: count(Status::Done),
+                collapsed: count(Status::Collapsed),
+                failed: count(Status::Failed),
+                missing: count(Status::Missing),
                 tau_end,
                 log10_t_ratio,
                 log10_t_haff,
@@ -148,8 +140,8 @@ pub fn phase_table(spec: &Spec, records: &[Record]) -> Vec<PointRow> {
         .collect()
 }
 
-/// Output format of `edmd summarize`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+/// Output format of the phase table.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Format {
     /// Aligned text for the terminal.
     Table,
@@ -157,6 +149,27 @@ pub enum Format {
     Csv,
     /// A JSON array of objects.
     Json,
+}
+
+impl Format {
+    /// Every format, by name.
+    pub const ALL: [(&'static str, Format); 3] = [
+        ("table", Format::Table),
+        ("csv", Format::Csv),
+        ("json", Format::Json),
+    ];
+}
+
+impl FromStr for Format {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        Format::ALL
+            .iter()
+            .find(|(name, _)| *name == s)
+            .map(|&(_, f)| f)
+            .ok_or_else(|| format!("unknown format {s:?}: table, csv or json"))
+    }
 }
 
 const COLUMNS: usize = 22;
@@ -224,13 +237,12 @@ pub fn render(rows: &[PointRow], format: Format) -> String {
     match format {
         Format::Json => serde_json::to_string_pretty(rows).expect("rows serialise") + "\n",
         Format::Csv => {
-            let mut s = HEADER.join(",") + "\n";
+            let mut w = csv::Writer::from_writer(Vec::new());
+            w.write_record(HEADER).expect("write to memory");
             for r in rows {
-                let c = cells(r);
-                s += &c.iter().map(|x| csv_field(x)).collect::<Vec<_>>().join(",");
-                s.push('\n');
+                w.write_record(cells(r)).expect("write to memory");
             }
-            s
+            String::from_utf8(w.into_inner().expect("write to memory")).expect("UTF-8")
         }
         Format::Table => {
             let body: Vec<[String; COLUMNS]> = rows.iter().map(cells).collect();

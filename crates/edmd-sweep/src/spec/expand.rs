@@ -1,0 +1,249 @@
+//! Expansion of a spec into replicas, their seeds, and shards of them.
+
+use std::fmt;
+
+use super::{BoundaryKind, Grid, Remedy, Spec};
+use crate::SweepError;
+
+/// How the box of a replica is given.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Density {
+    /// Packing fraction φ.
+    Phi(f64),
+    /// Box side L.
+    Side(f64),
+}
+
+/// One simulation of the sweep.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Replica {
+    /// Position in the sweep's expansion order (stable for a given spec).
+    pub index: usize,
+    /// Dimension.
+    pub dim: usize,
+    /// Boundary.
+    pub boundary: BoundaryKind,
+    /// Restitution.
+    pub eps: f64,
+    /// Box as given.
+    pub density: Density,
+    /// Particle number.
+    pub n: usize,
+    /// Seed number within the grid point, 0-based.
+    pub seed_index: u32,
+    /// Remedy.
+    pub remedy: Remedy,
+    /// Seed of the initial state, derived from the sweep seed and the state's parameters.
+    pub seed: u64,
+}
+
+impl Replica {
+    /// File name of the replica's H5MD file.
+    pub fn file_name(&self) -> String {
+        format!("r{:05}.h5", self.index)
+    }
+
+    /// Box side L (square or cubic box).
+    pub fn side(&self) -> f64 {
+        match self.density {
+            Density::Side(l) => l,
+            Density::Phi(phi) => {
+                (self.n as f64 * ball_volume(self.dim) / phi).powf(1.0 / self.dim as f64)
+            }
+        }
+    }
+
+    /// Packing fraction φ.
+    pub fn phi(&self) -> f64 {
+        match self.density {
+            Density::Phi(phi) => phi,
+            Density::Side(l) => self.n as f64 * ball_volume(self.dim) / l.powi(self.dim as i32),
+        }
+    }
+
+    /// The grid point (every parameter but the seed) as a key for grouping.
+    pub fn point_key(&self) -> String {
+        format!(
+            "{}|{}|{}|{}|{}|{}",
+            self.dim,
+            self.boundary.name(),
+            self.eps,
+            self.density_label(),
+            self.n,
+            self.remedy.label()
+        )
+    }
+
+    /// `phi=0.25` or `L=56.7`.
+    pub fn density_label(&self) -> String {
+        match self.density {
+            Density::Phi(p) => format!("phi={p}"),
+            Density::Side(l) => format!("L={l}"),
+        }
+    }
+}
+
+impl fmt::Display for Replica {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "replica {} (D={}, {}, eps={}, {}, N={}, seed #{}, remedy {})",
+            self.index,
+            self.dim,
+            self.boundary.name(),
+            self.eps,
+            self.density_label(),
+            self.n,
+            self.seed_index,
+            self.remedy.label()
+        )
+    }
+}
+
+/// Volume of a ball of diameter 1 in `d` dimensions.
+pub fn ball_volume(d: usize) -> f64 {
+    if d == 2 {
+        std::f64::consts::PI / 4.0
+    } else {
+        std::f64::consts::PI / 6.0
+    }
+}
+
+/// Densest packing fraction of equal disks (hexagonal) or spheres (fcc).
+pub fn close_packing(d: usize) -> f64 {
+    if d == 2 {
+        std::f64::consts::PI / (2.0 * 3f64.sqrt())
+    } else {
+        std::f64::consts::PI / (3.0 * 2f64.sqrt())
+    }
+}
+
+/// SplitMix64 finaliser: a well-mixed 64-bit hash step.
+fn mix(mut z: u64) -> u64 {
+    z = z.wrapping_add(0x9E37_79B9_7F4A_7C15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^ (z >> 31)
+}
+
+/// A stable 64-bit hash of bytes (FNV-1a, then mixed); the same on every platform and version.
+pub fn stable_hash(bytes: &[u8]) -> u64 {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for &b in bytes {
+        h ^= b as u64;
+        h = h.wrapping_mul(0x0000_0100_0000_01b3);
+    }
+    mix(h)
+}
+
+impl Spec {
+    /// The replicas in expansion order: grid by grid; within a grid dim, boundary, remedy, n, density,
+    /// eps, seed (seed fastest).
+    pub fn replicas(&self) -> Vec<Replica> {
+        let mut out = Vec::new();
+        for g in self.grid.values() {
+            self.expand(&g, &mut out);
+        }
+        out
+    }
+
+    fn expand(&self, g: &Grid, out: &mut Vec<Replica>) {
+        let ns = g.n.as_ref().map(|n| n.values()).unwrap_or_default();
+        let phis = g.phi.as_ref().map(|p| p.values()).unwrap_or_default();
+        let sides = g.box_len.as_ref().map(|l| l.values()).unwrap_or_default();
+        for dim in g.dim.values() {
+            // (N, box) pairs: N × φ, N × L, or N = round(φ L^D / v₁) for φ × L.
+            let pairs: Vec<(usize, Density)> = match (phis.is_empty(), sides.is_empty()) {
+                (false, true) => ns
+                    .iter()
+                    .flat_map(|&n| phis.iter().map(move |&p| (n, Density::Phi(p))))
+                    .collect(),
+                (true, false) => ns
+                    .iter()
+                    .flat_map(|&n| sides.iter().map(move |&l| (n, Density::Side(l))))
+                    .collect(),
+                _ => phis
+                    .iter()
+                    .flat_map(|&p| {
+                        sides.iter().map(move |&l| {
+                            let n = (p * l.powi(dim as i32) / ball_volume(dim)).round();
+                            ((n as usize).max(2), Density::Side(l))
+                        })
+                    })
+                    .collect(),
+            };
+            for boundary in g.boundary.values() {
+                for remedy in g.remedy.values() {
+                    for &(n, density) in &pairs {
+                        for eps in g.eps.values() {
+                            for seed_index in 0..g.seeds {
+                                let mut r = Replica {
+                                    index: out.len(),
+                                    dim,
+                                    boundary,
+                                    eps,
+                                    density,
+                                    n,
+                                    seed_index,
+                                    remedy,
+                                    seed: 0,
+                                };
+                                r.seed = self.replica_seed(&r);
+                                out.push(r);
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// The seed of a replica's initial state. It derives from the sweep seed and the parameters that
+    /// define the initial state (D, boundary, box, N, seed number), not from ε or the remedy: replicas
+    /// that differ only in ε start from the same state (common random numbers), which sharpens
+    /// comparisons across ε. It does not depend on the replica's index, the thread count or the shard.
+    pub fn replica_seed(&self, r: &Replica) -> u64 {
+        let key = format!(
+            "{}|{}|{}|{}|{}|{}",
+            self.seed,
+            r.dim,
+            r.boundary.name(),
+            r.density_label(),
+            r.n,
+            r.seed_index
+        );
+        stable_hash(key.as_bytes())
+    }
+}
+
+/// Which replicas a shard runs: `K/N` takes every replica whose index is `K` modulo `N`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Shard {
+    /// This shard, 0-based.
+    pub k: usize,
+    /// Number of shards.
+    pub n: usize,
+}
+
+impl Shard {
+    /// Parses `K/N` with 0 ≤ K < N.
+    pub fn parse(s: &str) -> Result<Shard, SweepError> {
+        let err = || {
+            SweepError::Usage(format!(
+                "--shard {s}: expected K/N with 0 <= K < N, e.g. 0/4"
+            ))
+        };
+        let (k, n) = s.split_once('/').ok_or_else(err)?;
+        let k: usize = k.trim().parse().map_err(|_| err())?;
+        let n: usize = n.trim().parse().map_err(|_| err())?;
+        if n == 0 || k >= n {
+            return Err(err());
+        }
+        Ok(Shard { k, n })
+    }
+
+    /// Whether the shard runs replica `index`.
+    pub fn contains(&self, index: usize) -> bool {
+        index % self.n == self.k
+    }
+}

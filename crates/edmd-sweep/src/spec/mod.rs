@@ -1,0 +1,406 @@
+//! Sweep specifications: the JSON file a user writes, its validation, and its expansion into replicas.
+//!
+//! A spec names grid axes (each a value or a list), one collision rule, the stop condition, the sample
+//! schedule, the snapshots to store and output options. Unknown fields are rejected; every check names
+//! the field and the value. The full reference is `docs/sweep-spec.md` and `docs/sweep-spec.schema.json`.
+
+use serde::{Deserialize, Serialize};
+
+use crate::SweepError;
+
+mod check;
+mod expand;
+
+pub use check::viscoelastic;
+pub use expand::{ball_volume, close_packing, stable_hash, Density, Replica, Shard};
+
+/// A value or a list of values (`"eps": 0.9` or `"eps": [0.9, 0.8]`).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(untagged)]
+pub enum OneOrMany<T> {
+    /// A single value.
+    One(T),
+    /// A list of values (must not be empty).
+    Many(Vec<T>),
+}
+
+/// Deserialised by hand rather than with `#[serde(untagged)]`, so that an error inside a value
+/// (an unknown field of a grid, say) is reported as such instead of "did not match any variant".
+impl<'de, T: serde::de::DeserializeOwned> Deserialize<'de> for OneOrMany<T> {
+    fn deserialize<De: serde::Deserializer<'de>>(d: De) -> Result<Self, De::Error> {
+        use serde::de::Error;
+        match serde_json::Value::deserialize(d)? {
+            serde_json::Value::Array(items) => items
+                .into_iter()
+                .map(serde_json::from_value)
+                .collect::<Result<Vec<T>, _>>()
+                .map(OneOrMany::Many)
+                .map_err(De::Error::custom),
+            v => serde_json::from_value(v)
+                .map(OneOrMany::One)
+                .map_err(De::Error::custom),
+        }
+    }
+}
+
+impl<T: Clone> OneOrMany<T> {
+    /// The values as a list.
+    pub fn values(&self) -> Vec<T> {
+        match self {
+            OneOrMany::One(v) => vec![v.clone()],
+            OneOrMany::Many(v) => v.clone(),
+        }
+    }
+}
+
+/// Boundary conditions of the box.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum BoundaryKind {
+    /// Periodic along every axis.
+    Periodic,
+    /// Hard specular walls along every axis.
+    Walls,
+    /// Periodic along x, walls along the other axes.
+    Channel,
+}
+
+impl BoundaryKind {
+    /// The name used in files and tables.
+    pub fn name(self) -> &'static str {
+        match self {
+            BoundaryKind::Periodic => "periodic",
+            BoundaryKind::Walls => "walls",
+            BoundaryKind::Channel => "channel",
+        }
+    }
+
+    /// H5MD `boundary` attribute per axis ("periodic" or "none").
+    pub fn h5md_boundary(self, d: usize) -> Vec<&'static str> {
+        (0..d)
+            .map(|axis| match (self, axis) {
+                (BoundaryKind::Periodic, _) | (BoundaryKind::Channel, 0) => "periodic",
+                _ => "none",
+            })
+            .collect()
+    }
+}
+
+/// A remedy against inelastic collapse, applied on top of the rule.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "lowercase", deny_unknown_fields)]
+pub enum Remedy {
+    /// No remedy.
+    None,
+    /// TC model: collisions within `tc` of a partner's previous collision are elastic.
+    Tc {
+        /// Contact duration t_c (time units of σ√(m/T0)).
+        tc: f64,
+    },
+    /// Random rotation of the relative post-collision velocity by up to `theta_max_deg` degrees.
+    Rotation {
+        /// Largest rotation angle in degrees, in [0, 90].
+        theta_max_deg: f64,
+    },
+}
+
+impl Remedy {
+    /// A short label for tables and files, e.g. `tc=0.001`.
+    pub fn label(&self) -> String {
+        match self {
+            Remedy::None => "none".into(),
+            Remedy::Tc { tc } => format!("tc={tc}"),
+            Remedy::Rotation { theta_max_deg } => format!("rotation={theta_max_deg}deg"),
+        }
+    }
+}
+
+/// The collision law; the grid's `eps` sets its restitution (see each variant).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
+#[serde(tag = "kind", rename_all = "lowercase", deny_unknown_fields)]
+pub enum RuleSpec {
+    /// Constant normal restitution ε = `eps`.
+    #[default]
+    Constant,
+    /// ε = `eps` above the normal speed `delta`, `eps_low` (default 1) below it.
+    Threshold {
+        /// Normal-speed threshold δ.
+        delta: f64,
+        /// Restitution below δ (default 1).
+        #[serde(default = "one")]
+        eps_low: f64,
+    },
+    /// The thesis's eq. 5.1 with r0 = `eps` and the given `v0` (default 0.3).
+    Thesis {
+        /// Crossover speed v0.
+        #[serde(default = "default_v0")]
+        v0: f64,
+    },
+    /// Viscoelastic spheres, damping chosen so that ε = `eps` at normal speed `speed` (default 1)
+    /// for two equal particles.
+    Viscoelastic {
+        /// Reference normal speed.
+        #[serde(default = "one")]
+        speed: f64,
+    },
+}
+
+fn one() -> f64 {
+    1.0
+}
+fn default_v0() -> f64 {
+    0.3
+}
+
+/// Initial velocity distribution.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "lowercase")]
+pub enum VelocityKind {
+    /// Maxwell–Boltzmann (default).
+    #[default]
+    Maxwell,
+    /// Each component uniform in (−1, 1), as in the thesis.
+    Uniform,
+}
+
+/// How the initial state is made.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct InitSpec {
+    /// Velocity distribution.
+    #[serde(default)]
+    pub velocities: VelocityKind,
+    /// Elastic collisions per particle run before the inelastic rule starts (default 0 for a random
+    /// start, 20 for a lattice start at high density).
+    #[serde(default)]
+    pub melt_tau: Option<f64>,
+}
+
+impl Default for InitSpec {
+    fn default() -> Self {
+        InitSpec {
+            velocities: VelocityKind::Maxwell,
+            melt_tau: None,
+        }
+    }
+}
+
+/// When a replica ends.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StopSpec {
+    /// Pair collisions per particle τ = C/N at which the run ends.
+    pub tau_max: f64,
+    /// End earlier, at the first sample where T/T0 falls below this value.
+    #[serde(default)]
+    pub temperature_ratio: Option<f64>,
+    /// End earlier, once the replica's class is settled (needs a `classify` section).
+    #[serde(default)]
+    pub classified: bool,
+}
+
+/// Order parameters and the regime classifier (PHYSICS.md §5).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ClassifySpec {
+    /// Cells per axis of the order-parameter grid (default: about 16 particles per cell).
+    #[serde(default)]
+    pub grid: Option<usize>,
+    /// Thresholds of the classifier.
+    #[serde(default)]
+    pub thresholds: crate::classify::Thresholds,
+}
+
+impl ClassifySpec {
+    /// Cells per axis for `n` particles in `d` dimensions: the spec's `grid`, or else about 16
+    /// particles per cell (8 per axis for N = 1024 disks), at least 2.
+    pub fn grid_for(&self, n: usize, d: usize) -> usize {
+        self.grid
+            .unwrap_or_else(|| ((n as f64 / 16.0).powf(1.0 / d as f64).round() as usize).max(2))
+    }
+}
+
+/// When observables are sampled (the union of a linear and a logarithmic grid in τ).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SampleSpec {
+    /// Sample every this many collisions per particle (none if absent).
+    #[serde(default)]
+    pub every: Option<f64>,
+    /// Samples per decade of τ on a logarithmic grid (default 10; 0 for none).
+    #[serde(default = "default_per_decade")]
+    pub per_decade: u32,
+    /// First τ of the logarithmic grid (default 0.1).
+    #[serde(default = "default_log_from")]
+    pub log_from: f64,
+}
+
+fn default_per_decade() -> u32 {
+    10
+}
+fn default_log_from() -> f64 {
+    0.1
+}
+
+impl Default for SampleSpec {
+    fn default() -> Self {
+        SampleSpec {
+            every: None,
+            per_decade: default_per_decade(),
+            log_from: default_log_from(),
+        }
+    }
+}
+
+/// Which particle snapshots (positions, velocities) are stored.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SnapshotSpec {
+    /// τ values at which to store a snapshot (default `[0]`).
+    #[serde(default = "default_snapshot_at")]
+    pub at: Vec<f64>,
+    /// Also store the final state (default true).
+    #[serde(default = "default_true", rename = "final")]
+    pub last: bool,
+}
+
+fn default_snapshot_at() -> Vec<f64> {
+    vec![0.0]
+}
+fn default_true() -> bool {
+    true
+}
+
+impl Default for SnapshotSpec {
+    fn default() -> Self {
+        SnapshotSpec {
+            at: default_snapshot_at(),
+            last: true,
+        }
+    }
+}
+
+/// Output options.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OutputSpec {
+    /// Deflate level of the replica files' datasets, 0 (none) to 9 (default 4).
+    #[serde(default = "default_compression")]
+    pub compression: u8,
+    /// The H5MD author name written into every file (default "edmd user").
+    #[serde(default = "default_author")]
+    pub author: String,
+}
+
+fn default_compression() -> u8 {
+    4
+}
+fn default_author() -> String {
+    "edmd user".into()
+}
+
+impl Default for OutputSpec {
+    fn default() -> Self {
+        OutputSpec {
+            compression: default_compression(),
+            author: default_author(),
+        }
+    }
+}
+
+/// The grid of replicas: the Cartesian product of its axes.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Grid {
+    /// Dimension, 2 (disks) or 3 (spheres) (default 2).
+    #[serde(default = "default_dim")]
+    pub dim: OneOrMany<usize>,
+    /// Boundary conditions (default periodic).
+    #[serde(default = "default_boundary")]
+    pub boundary: OneOrMany<BoundaryKind>,
+    /// Restitution coefficients ε (the rule says how ε is used).
+    pub eps: OneOrMany<f64>,
+    /// Packing fractions φ (with `n`, or with `box` for N to follow).
+    #[serde(default)]
+    pub phi: Option<OneOrMany<f64>>,
+    /// Box sides L in particle diameters (square or cubic box; with `n`, or with `phi`).
+    #[serde(default, rename = "box")]
+    pub box_len: Option<OneOrMany<f64>>,
+    /// Particle numbers N (omit when both `phi` and `box` are given: N = round(φ L^D / v₁)).
+    #[serde(default)]
+    pub n: Option<OneOrMany<usize>>,
+    /// Independent seeds per grid point (default 1).
+    #[serde(default = "default_seeds")]
+    pub seeds: u32,
+    /// Collapse remedies (default none).
+    #[serde(default = "default_remedy")]
+    pub remedy: OneOrMany<Remedy>,
+}
+
+fn default_dim() -> OneOrMany<usize> {
+    OneOrMany::One(2)
+}
+fn default_boundary() -> OneOrMany<BoundaryKind> {
+    OneOrMany::One(BoundaryKind::Periodic)
+}
+fn default_seeds() -> u32 {
+    1
+}
+fn default_remedy() -> OneOrMany<Remedy> {
+    OneOrMany::One(Remedy::None)
+}
+
+/// A sweep specification.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Spec {
+    /// Name of the sweep (used in tables and file attributes).
+    pub name: String,
+    /// Free text describing the sweep.
+    #[serde(default)]
+    pub description: String,
+    /// Sweep seed; a replica's random stream derives from it and the replica's parameters.
+    #[serde(default)]
+    pub seed: u64,
+    /// The grid of replicas, or a list of grids whose replicas are concatenated.
+    pub grid: OneOrMany<Grid>,
+    /// The collision rule (default constant restitution).
+    #[serde(default)]
+    pub rule: RuleSpec,
+    /// Initial state.
+    #[serde(default)]
+    pub init: InitSpec,
+    /// Stop condition.
+    pub stop: StopSpec,
+    /// Sample schedule of the observables.
+    #[serde(default)]
+    pub samples: SampleSpec,
+    /// Snapshot schedule of positions and velocities.
+    #[serde(default)]
+    pub snapshots: SnapshotSpec,
+    /// Output options.
+    #[serde(default)]
+    pub output: OutputSpec,
+    /// Order parameters and classification at every sample (absent: neither is computed).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub classify: Option<ClassifySpec>,
+}
+
+impl Spec {
+    /// Parses and validates a spec from JSON text.
+    pub fn from_json(text: &str) -> Result<Spec, SweepError> {
+        let spec: Spec = serde_json::from_str(text).map_err(|e| SweepError::Spec(e.to_string()))?;
+        spec.validate()?;
+        Ok(spec)
+    }
+
+    /// The canonical JSON form (every default filled in); equal specs give equal text.
+    pub fn canonical_json(&self) -> String {
+        serde_json::to_string_pretty(self).expect("a spec always serialises")
+    }
+
+    /// Hash of the canonical form, stored in every output file.
+    pub fn hash(&self) -> String {
+        format!("{:016x}", stable_hash(self.canonical_json().as_bytes()))
+    }
+}
