@@ -73,7 +73,7 @@ fn check<const D: usize>(eps: f64, phi: f64, tolerance: f64) {
         100.0 * dev
     );
     // The kurtosis of a snapshot of N speeds is biased at O(1/N) (it cannot exceed N, and the
-    // speeds share a fixed energy); it is compared from N = 100 on (PHYSICS.md asks N ≥ 500).
+    // speeds share a fixed energy); it is compared from N = 100 on (PHYSICS.md §2.2).
     let kurtosis_theory = (D as f64 + 2.0) / D as f64 * (1.0 + a2(D, eps));
     if n >= 100 {
         assert!(
