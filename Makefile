@@ -2,7 +2,8 @@
 #   make run       the quick default sweep (sweeps/quick.json): phase table, files and a figure report
 #                  (edmd-out/quick/report/index.html)
 #   make figures   the report of the quick sweep, or of any sweep with OUT=dir
-#   make test      everything CI checks (format, lints, Rust tests, Python tests, benchmark smoke run)
+#   make test      everything CI checks (format, lints, Rust tests, Python tests, Slurm, benchmark smoke run)
+#   make check     daily work: format check, clippy and the Rust tests
 #   make bench     collisions/s and peak bytes per particle over N and phi (or one case: D= N= PHI= EPS=)
 #   make bench-nightly  the fixed benchmark matrix with history and regression flags
 #   make bench-accuracy  run time against error (remedies, statistics, classification)
@@ -17,7 +18,7 @@ PYTHON ?= python3
 VENV := .venv
 APT_PACKAGES := libhdf5-dev hdf5-tools pkg-config
 
-.PHONY: all deps build run figures demo cli test test-rust test-python lint bench bench-smoke bench-nightly bench-accuracy stress test-slurm validate clean
+.PHONY: all deps build run figures demo cli check test test-rust test-python lint bench bench-smoke bench-nightly bench-accuracy stress test-slurm validate clean
 
 all: build
 
@@ -56,6 +57,13 @@ cli:
 lint:
 	$(CARGO) fmt --all -- --check
 	$(CARGO) clippy --workspace --all-targets -- -D warnings
+	$(VENV)/bin/ruff check analysis scripts tests
+
+# Daily work: format check, lints and the Rust tests, without the Python, Slurm and benchmark parts.
+check:
+	$(CARGO) fmt --all -- --check
+	$(CARGO) clippy --workspace --all-targets -- -D warnings
+	$(CARGO) test --workspace
 
 test-rust:
 	$(CARGO) test --workspace
@@ -81,7 +89,7 @@ endif
 # Stress tests at full size (10^8 elastic collisions, T/T0 < 1e-1000, N = 10^7 disks, 2000 fuzz
 # cases); `cargo test` runs short versions. Figures: docs/benchmarks.md.
 stress:
-	EDMD_STRESS=1 PROPTEST_CASES=2000 $(CARGO) test -p edmd-core --test stress --test fuzz -- --nocapture --test-threads 1
+	$(CARGO) test -p edmd-core --test engine -- --ignored --nocapture --test-threads 1 stress:: fuzz::
 
 # The nightly matrix (D, N, phi, eps): appends to benches/history.jsonl, prints a table and flags
 # cases > 10 % slower than the previous entry on this machine (exit 1). NIGHTLY_ARGS="--only D=2,N=10000".
@@ -101,7 +109,8 @@ test-slurm: cli
 	PY=$(CURDIR)/$(VENV)/bin/python EDMD=$(CURDIR)/target/release/edmd bash tests/slurm/test-slurm.sh
 
 validate:
-	EDMD_VALIDATE=1 $(CARGO) test --release -p edmd-core --test equilibrium -- --nocapture --test-threads 1
+	$(CARGO) test --release -p edmd-core --test engine -- --ignored --nocapture --test-threads 1 equilibrium::
+	$(CARGO) test --release -p edmd-sweep --test regimes -- --ignored --nocapture
 
 clean:
 	$(CARGO) clean

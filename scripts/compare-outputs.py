@@ -14,7 +14,6 @@ import sys
 import h5py
 import numpy as np
 
-
 RUN_ATTRIBUTES = {"wall_s", "git_commit"}
 
 
@@ -27,7 +26,7 @@ def main(a: str, b: str) -> int:
     counts = {"datasets": 0, "attributes": 0}
     for name in names_a:
         with h5py.File(f"{a}/replicas/{name}", "r") as x, h5py.File(f"{b}/replicas/{name}", "r") as y:
-            def visit(path, obj):
+            def visit(path, obj, y=y, name=name):
                 other = y[path]
                 for key, value in obj.attrs.items():
                     if key in RUN_ATTRIBUTES:

@@ -3,11 +3,10 @@ schema version."""
 
 import shutil
 
+import edmd_analysis as ea
 import h5py
 import numpy as np
 import pytest
-
-import edmd_analysis as ea
 
 
 def test_read_index(sweep):

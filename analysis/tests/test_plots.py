@@ -5,11 +5,10 @@ import json
 import matplotlib
 
 matplotlib.use("Agg")
+import edmd_analysis as ea  # noqa: E402
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import pytest  # noqa: E402
-
-import edmd_analysis as ea  # noqa: E402
 from edmd_analysis import plots  # noqa: E402
 
 

@@ -1,7 +1,6 @@
 """The report command writes every figure type and an index.html with the phase table."""
 
 import pytest
-
 from edmd_analysis import report as report_module
 from edmd_analysis.__main__ import main
 

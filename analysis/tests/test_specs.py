@@ -4,7 +4,6 @@ binary (unknown fields and out-of-range values are rejected by both)."""
 import json
 
 import pytest
-
 from conftest import REPO, run_edmd
 
 jsonschema = pytest.importorskip("jsonschema")

@@ -10,6 +10,9 @@
 
 use std::time::Instant;
 
+use clap::{Parser, ValueEnum};
+use serde_json::json;
+
 use edmd::{
     CollisionRule, ConstantRestitution, Elastic, InitParams, Periodic, RandomRotation, Schedule,
     Stop, TcModel, ThresholdRestitution, Vector,
@@ -93,13 +96,17 @@ fn remedies() {
         let cost0 = s0 / c0 as f64;
         let line = |remedy: &str, param: f64, unit: &str, r: (f64, f64, f64, u64)| {
             let (k, se, secs, coll) = r;
-            println!(
-                "{{\"study\":\"remedy\",\"setting\":\"{setting}\",\"eps\":{eps},\"phi\":{phi},\"n\":{n},\"seeds\":{seeds},\"tau_end\":{tau_end},\"remedy\":\"{remedy}\",\"param\":{param},\"unit\":\"{unit}\",\"k\":{k:.6},\"k_se\":{se:.6},\"k_exact\":{k0:.6},\"k_exact_se\":{se0:.6},\"k_theory\":{theory:.6},\"error_vs_exact\":{:.6},\"error_vs_theory\":{:.6},\"seconds\":{secs:.3},\"us_per_collision\":{:.4},\"cost_ratio\":{:.4}}}",
-                k / k0 - 1.0,
-                k / theory - 1.0,
-                1e6 * secs / coll as f64,
-                secs / coll as f64 / cost0
-            );
+            emit(json!({
+                "study": "remedy", "setting": setting, "eps": eps, "phi": phi, "n": n,
+                "seeds": seeds, "tau_end": tau_end, "remedy": remedy, "param": param, "unit": unit,
+                "k": round(k, 6), "k_se": round(se, 6), "k_exact": round(k0, 6),
+                "k_exact_se": round(se0, 6), "k_theory": round(theory, 6),
+                "error_vs_exact": round(k / k0 - 1.0, 6),
+                "error_vs_theory": round(k / theory - 1.0, 6),
+                "seconds": round(secs, 3),
+                "us_per_collision": round(1e6 * secs / coll as f64, 4),
+                "cost_ratio": round(secs / coll as f64 / cost0, 4),
+            }));
         };
         line("none", 0.0, "-", (k0, se0, s0, c0));
         for f in [1e-5, 1e-4, 1e-3, 1e-2] {
@@ -156,11 +163,12 @@ fn statistics() {
         for seeds in [4u64, 16, 64] {
             for tau_end in [20.0, 40.0] {
                 let (k, se, secs, coll) = cooling(c, n, side, seeds, tau_end);
-                println!(
-                    "{{\"study\":\"haff\",\"eps\":{eps},\"phi\":{phi},\"n\":{n},\"seeds\":{seeds},\"tau_end\":{tau_end},\"k\":{k:.6},\"k_se\":{se:.6},\"k_theory\":{theory:.6},\"error\":{:.6},\"rel_se\":{:.6},\"seconds\":{secs:.3},\"collisions\":{coll}}}",
-                    k / theory - 1.0,
-                    se / theory
-                );
+                emit(json!({
+                    "study": "haff", "eps": eps, "phi": phi, "n": n, "seeds": seeds,
+                    "tau_end": tau_end, "k": round(k, 6), "k_se": round(se, 6),
+                    "k_theory": round(theory, 6), "error": round(k / theory - 1.0, 6),
+                    "rel_se": round(se / theory, 6), "seconds": round(secs, 3), "collisions": coll,
+                }));
             }
         }
     }
@@ -196,30 +204,50 @@ fn statistics() {
                 / (chis.len() as f64 - 1.0)
                 / chis.len() as f64)
                 .sqrt();
-            println!(
-                "{{\"study\":\"chi\",\"phi\":{phi},\"n\":{n},\"seeds\":{seeds},\"tau\":{tau},\"chi\":{m:.6},\"chi_se\":{se:.6},\"chi_luding\":{reference:.6},\"error\":{:.6},\"rel_se\":{:.6},\"seconds\":{secs:.3},\"collisions\":{}}}",
-                m / reference - 1.0,
-                se / reference,
-                (n as f64 * tau) as u64 * seeds
-            );
+            emit(json!({
+                "study": "chi", "phi": phi, "n": n, "seeds": seeds, "tau": tau,
+                "chi": round(m, 6), "chi_se": round(se, 6), "chi_luding": round(reference, 6),
+                "error": round(m / reference - 1.0, 6), "rel_se": round(se / reference, 6),
+                "seconds": round(secs, 3), "collisions": (n as f64 * tau) as u64 * seeds,
+            }));
         }
     }
 }
 
+/// `x` rounded to `digits` decimals (the JSON lines carry no more than their precision).
+fn round(x: f64, digits: i32) -> f64 {
+    let f = 10f64.powi(digits);
+    (x * f).round() / f
+}
+
+/// Prints one measurement as a JSON line.
+fn emit(v: serde_json::Value) {
+    println!("{v}");
+}
+
+/// A study of run time against error.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum Study {
+    /// Collapse remedies at eps = 0.7 and 0.9: cost per tau, cooling-rate error.
+    Remedies,
+    /// Errors of the cooling rate and of chi against theory, over N x seeds x tau.
+    Statistics,
+}
+
+/// Run time against error: one JSON object per measurement on stdout.
+#[derive(Debug, Parser)]
+#[command(name = "edmd-accuracy", version)]
+struct Args {
+    /// The studies to run, in order.
+    #[arg(required = true, value_enum)]
+    studies: Vec<Study>,
+}
+
 fn main() {
-    let what: Vec<String> = std::env::args().skip(1).collect();
-    if what.is_empty() || what.iter().any(|a| a == "-h" || a == "--help") {
-        println!("usage: edmd-accuracy remedies|statistics ...");
-        return;
-    }
-    for w in &what {
-        match w.as_str() {
-            "remedies" => remedies(),
-            "statistics" => statistics(),
-            other => {
-                eprintln!("error: unknown study {other:?}: expected remedies or statistics");
-                std::process::exit(2);
-            }
+    for study in Args::parse().studies {
+        match study {
+            Study::Remedies => remedies(),
+            Study::Statistics => statistics(),
         }
     }
 }

@@ -12,6 +12,9 @@ use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicUsize, Ordering::Relaxed};
 use std::time::Instant;
 
+use clap::Parser;
+use serde::Serialize;
+
 use edmd::{ConstantRestitution, InitParams, Periodic, Stop};
 
 struct Counting;
@@ -109,39 +112,76 @@ fn run_case(
     }
 }
 
-fn arg<T: std::str::FromStr>(args: &[String], name: &str, default: T) -> Result<T, String> {
-    match args.iter().position(|a| a == name) {
-        Some(i) => args
-            .get(i + 1)
-            .ok_or(format!("{name} needs a value"))?
-            .parse()
-            .map_err(|_| format!("invalid {name} = {}", args[i + 1])),
-        None => Ok(default),
-    }
+/// Collisions per second and peak heap bytes per particle of the engine (elastic start, periodic box).
+#[derive(Debug, Parser)]
+#[command(name = "edmd-bench", version)]
+struct Args {
+    /// Dimension, 2 or 3.
+    #[arg(long, default_value_t = 2)]
+    d: usize,
+    /// Particles.
+    #[arg(long, default_value_t = 10_000)]
+    n: usize,
+    /// Packing fraction.
+    #[arg(long, default_value_t = 0.3)]
+    phi: f64,
+    /// Restitution (an inelastic gas is rescaled to T = 1 between repeats).
+    #[arg(long, default_value_t = 1.0)]
+    eps: f64,
+    /// Timed runs per case; the median is reported.
+    #[arg(long, default_value_t = 3)]
+    repeats: usize,
+    /// Length of each timed run in collisions per particle [default: 5e6/N, within 2..=200].
+    #[arg(long)]
+    collisions_per_particle: Option<f64>,
+    /// Elastic equilibration before timing, in collisions per particle.
+    #[arg(long, default_value_t = 5.0)]
+    melt_tau: f64,
+    /// Print one JSON object instead of the text lines.
+    #[arg(long)]
+    json: bool,
+    /// Run the matrix of D, N and phi instead of one case.
+    #[arg(long)]
+    matrix: bool,
+    /// Largest N of the matrix.
+    #[arg(long, default_value_t = 1_000_000)]
+    max_n: usize,
+}
+
+/// The `--json` line.
+#[derive(Debug, Serialize)]
+struct Report {
+    d: usize,
+    n: usize,
+    phi: f64,
+    eps: f64,
+    repeats: usize,
+    collisions: u64,
+    seconds: f64,
+    collisions_per_s: f64,
+    spread: f64,
+    bytes_per_particle: f64,
 }
 
 fn main() {
-    if let Err(e) = real_main() {
+    if let Err(e) = real_main(Args::parse()) {
         eprintln!("error: {e}");
         std::process::exit(2);
     }
 }
 
-fn real_main() -> Result<(), String> {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    if args.iter().any(|a| a == "--help" || a == "-h") {
-        println!("usage: edmd-bench [--d 2|3] [--n N] [--phi PHI] [--eps EPS] [--repeats K] [--collisions-per-particle C] [--melt-tau TAU] [--json]\n       edmd-bench --matrix [--max-n N]\n\n  --repeats K                  timed runs per case; the median is reported (default 3)\n  --collisions-per-particle C  length of each timed run (default: 5e6/N, within [2, 200])\n  --melt-tau TAU               elastic equilibration before timing, in collisions per particle (default 5)\n  --json                       print one JSON object instead of the text lines");
-        return Ok(());
+fn real_main(args: Args) -> Result<(), String> {
+    let repeats = args.repeats;
+    if repeats == 0 {
+        return Err("invalid --repeats = 0: need at least one timed run".into());
     }
-    let repeats: usize = arg(&args, "--repeats", 3)?;
-    let per: f64 = arg(&args, "--collisions-per-particle", 0.0)?;
-    let per = (per > 0.0).then_some(per);
-    let melt_tau: f64 = arg(&args, "--melt-tau", 5.0)?;
+    let per = args.collisions_per_particle.filter(|&c| c > 0.0);
+    let melt_tau = args.melt_tau;
     if !(melt_tau >= 0.0) {
         return Err(format!("invalid --melt-tau = {melt_tau}: must be >= 0"));
     }
-    if args.iter().any(|a| a == "--matrix") {
-        let max_n: usize = arg(&args, "--max-n", 1_000_000)?;
+    if args.matrix {
+        let max_n = args.max_n;
         println!(
             "{:>2} {:>8} {:>5} {:>5} {:>14} {:>8} {:>10}",
             "D", "N", "phi", "eps", "collisions/s", "spread", "bytes/N"
@@ -177,25 +217,29 @@ fn real_main() -> Result<(), String> {
         return Ok(());
     }
     let case = Case {
-        d: arg(&args, "--d", 2)?,
-        n: arg(&args, "--n", 10_000)?,
-        phi: arg(&args, "--phi", 0.3)?,
-        eps: arg(&args, "--eps", 1.0)?,
+        d: args.d,
+        n: args.n,
+        phi: args.phi,
+        eps: args.eps,
     };
     let o = run_case(&case, repeats, per, melt_tau)?;
-    if args.iter().any(|a| a == "--json") {
-        println!(
-            "{{\"d\":{},\"n\":{},\"phi\":{},\"eps\":{},\"repeats\":{},\"collisions\":{},\"seconds\":{:.4},\"collisions_per_s\":{:.0},\"spread\":{:.4},\"bytes_per_particle\":{:.1}}}",
-            case.d,
-            case.n,
-            case.phi,
-            case.eps,
+    if args.json {
+        let round = |x: f64, digits: i32| (x * 10f64.powi(digits)).round() / 10f64.powi(digits);
+        let report = Report {
+            d: case.d,
+            n: case.n,
+            phi: case.phi,
+            eps: case.eps,
             repeats,
-            o.collisions,
-            o.secs,
-            o.median,
-            o.spread,
-            o.bytes_per_particle
+            collisions: o.collisions,
+            seconds: round(o.secs, 4),
+            collisions_per_s: o.median.round(),
+            spread: round(o.spread, 4),
+            bytes_per_particle: round(o.bytes_per_particle, 1),
+        };
+        println!(
+            "{}",
+            serde_json::to_string(&report).expect("report serialises")
         );
         return Ok(());
     }

@@ -3,8 +3,8 @@
 //! within 0.3 %) and Carnahan–Starling (3D, within 0.5 %). The 3D case at φ = 0.45 runs on neighbour
 //! lists, all others on cell crossings.
 //!
-//! CI runs N = 4000 for τ = 1000 after 50 of equilibration; `EDMD_VALIDATE=1` (used by
-//! `make validate`) runs N = 10^4 for τ = 2000. The statistical error is estimated from 10 blocks and
+//! CI runs N = 4000 for τ = 1000 after 50 of equilibration; the ignored `*_full` tests (run by
+//! `make validate`) run N = 10^4 for τ = 2000. The statistical error is estimated from 10 blocks and
 //! printed; each test also requires it to be small enough (< 1/3 of the tolerance) for the
 //! comparison to mean something.
 
@@ -26,8 +26,7 @@ fn estimate(values: &[f64]) -> Estimate {
     }
 }
 
-fn check<const D: usize>(phi: f64, tolerance: f64) {
-    let full = std::env::var("EDMD_VALIDATE").is_ok_and(|v| v == "1");
+fn check<const D: usize>(phi: f64, tolerance: f64, full: bool) {
     let (n, tau) = if full {
         (10_000, 2000.0)
     } else {
@@ -81,31 +80,67 @@ fn check<const D: usize>(phi: f64, tolerance: f64) {
 
 #[test]
 fn disks_phi_0_10() {
-    check::<2>(0.10, 0.003);
+    check::<2>(0.10, 0.003, false);
+}
+
+#[test]
+#[ignore = "long validation run: make validate"]
+fn disks_phi_0_10_full() {
+    check::<2>(0.10, 0.003, true);
 }
 
 #[test]
 fn disks_phi_0_25() {
-    check::<2>(0.25, 0.003);
+    check::<2>(0.25, 0.003, false);
+}
+
+#[test]
+#[ignore = "long validation run: make validate"]
+fn disks_phi_0_25_full() {
+    check::<2>(0.25, 0.003, true);
 }
 
 #[test]
 fn disks_phi_0_50() {
-    check::<2>(0.50, 0.003);
+    check::<2>(0.50, 0.003, false);
+}
+
+#[test]
+#[ignore = "long validation run: make validate"]
+fn disks_phi_0_50_full() {
+    check::<2>(0.50, 0.003, true);
 }
 
 #[test]
 fn spheres_phi_0_20() {
-    check::<3>(0.20, 0.005);
+    check::<3>(0.20, 0.005, false);
+}
+
+#[test]
+#[ignore = "long validation run: make validate"]
+fn spheres_phi_0_20_full() {
+    check::<3>(0.20, 0.005, true);
 }
 
 #[test]
 fn spheres_phi_0_35() {
-    check::<3>(0.35, 0.005);
+    check::<3>(0.35, 0.005, false);
+}
+
+#[test]
+#[ignore = "long validation run: make validate"]
+fn spheres_phi_0_35_full() {
+    check::<3>(0.35, 0.005, true);
 }
 
 /// φ = 0.45 runs on neighbour lists (the default there), the other cases on cell crossings.
 #[test]
 fn spheres_phi_0_45_neighbour_lists() {
-    check::<3>(0.45, 0.005);
+    check::<3>(0.45, 0.005, false);
+}
+
+#[test]
+#[ignore = "long validation run: make validate"]
+fn spheres_phi_0_45_neighbour_lists_full() {
+    check::<3>(0.45, 0.005, true);
 }

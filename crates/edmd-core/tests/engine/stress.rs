@@ -1,7 +1,7 @@
 //! Stress tests of numerical stability: where the engine could break, run it there and check that it
 //! does not. Each case prints one `stress:` line with its figures (collected in docs/benchmarks.md).
 //!
-//! `cargo test` runs short versions (CI); `EDMD_STRESS=1` (`make stress`) runs the full sizes:
+//! `cargo test` runs short versions (CI); the ignored `*_full` tests (`make stress`) run the full sizes:
 //! 10^8 elastic collisions, deep cooling to T/T0 = 1e-1000, N = 4096 collapse cases, N = 10^7 disks.
 
 use std::time::Instant;
@@ -11,8 +11,27 @@ use edmd_core::{
     RunEnd, SimParams, Simulation, Stop, TcModel, ThresholdRestitution, Vector,
 };
 
-fn full() -> bool {
-    std::env::var_os("EDMD_STRESS").is_some_and(|v| v != "0")
+/// The size of a stress case: the short version runs in `cargo test`, the full one is `#[ignore]`d
+/// and run by `make stress` (`cargo test -- --ignored stress::`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Size {
+    Short,
+    Full,
+}
+
+/// Declares the short test `$name` and the ignored full-size test `$name_full` of one case.
+macro_rules! sized {
+    ($name:ident, $full:ident, $case:ident) => {
+        #[test]
+        fn $name() {
+            $case(Size::Short);
+        }
+        #[test]
+        #[ignore = "full size: make stress"]
+        fn $full() {
+            $case(Size::Full);
+        }
+    };
 }
 
 /// Total kinetic energy from the physical velocities.
@@ -28,10 +47,19 @@ fn deepest<const D: usize, B: Boundary, R: CollisionRule>(sim: &Simulation<D, B,
     sim.deepest_overlap().map_or(0.0, |o| o.2)
 }
 
+sized!(
+    elastic_energy_drift_over_many_collisions,
+    elastic_energy_drift_over_many_collisions_full,
+    elastic_energy_drift_over_many_collisions_case
+);
+
 /// Elastic disks, N = 10^4, φ = 0.3: 10^8 collisions (10^6 in CI), energy drift reported.
-#[test]
-fn elastic_energy_drift_over_many_collisions() {
-    let collisions: u64 = if full() { 100_000_000 } else { 1_000_000 };
+fn elastic_energy_drift_over_many_collisions_case(size: Size) {
+    let collisions: u64 = if size == Size::Full {
+        100_000_000
+    } else {
+        1_000_000
+    };
     let mut p = InitParams::<2>::with_packing(10_000, 0.3).unwrap();
     p.seed = 11;
     let mut sim = p.build::<Periodic, _>(Elastic).unwrap();
@@ -57,12 +85,17 @@ fn elastic_energy_drift_over_many_collisions() {
     assert!(worst < 1e-9, "overlap {worst:e}");
 }
 
+sized!(
+    deep_cooling_below_1e_minus_300,
+    deep_cooling_below_1e_minus_300_full,
+    deep_cooling_below_1e_minus_300_case
+);
+
 /// Deep cooling: 66 disks at φ = 0.25 in a periodic box of 0.59 L⊥ (homogeneous), ε = 0.9, until
 /// T/T0 < 1e-300 (1e-1000 in the full version). ln T must stay finite and never rise, the collision
 /// rate per τ must not stall, and the final ln T must follow Haff's exponential within 2 %.
-#[test]
-fn deep_cooling_below_1e_minus_300() {
-    let target_log10 = if full() { -1000.0 } else { -300.0 };
+fn deep_cooling_below_1e_minus_300_case(size: Size) {
+    let target_log10 = if size == Size::Full { -1000.0 } else { -300.0 };
     let mut p = InitParams::<2>::in_box(66, Vector::<2>::repeat(14.4));
     p.seed = 5;
     let mut sim = p
@@ -142,12 +175,21 @@ fn dense_inelastic<R: CollisionRule>(n: usize, rule: R, tau: f64) -> DenseRun {
     )
 }
 
+sized!(
+    strongly_inelastic_dense_gas_with_and_without_remedies,
+    strongly_inelastic_dense_gas_with_and_without_remedies_full,
+    strongly_inelastic_dense_gas_with_and_without_remedies_case
+);
+
 /// ε = 0.1–0.3 at φ = 0.5: without a remedy the run ends (collapse detected, or the target reached)
 /// in bounded time; with the TC model, the velocity threshold and the thesis's combination
 /// (threshold + rotation) every run reaches the target τ. Never an overlap.
-#[test]
-fn strongly_inelastic_dense_gas_with_and_without_remedies() {
-    let (n, tau) = if full() { (4096, 500.0) } else { (1024, 100.0) };
+fn strongly_inelastic_dense_gas_with_and_without_remedies_case(size: Size) {
+    let (n, tau) = if size == Size::Full {
+        (4096, 500.0)
+    } else {
+        (1024, 100.0)
+    };
     // Mean free time at φ = 0.5, T0 = 1: 1/ν ≈ 0.14; remedies act on the scale of 1e-4 of it.
     let tc = 1.4e-5;
     let delta = 1e-4;
@@ -188,11 +230,16 @@ fn strongly_inelastic_dense_gas_with_and_without_remedies() {
     }
 }
 
+sized!(
+    near_crystal_elastic_disks,
+    near_crystal_elastic_disks_full,
+    near_crystal_elastic_disks_case
+);
+
 /// Elastic disks at φ = 0.72, near the crystal (hexagonal close packing 0.9069, freezing ≈ 0.70):
 /// energy exact, no overlap, finite pressure.
-#[test]
-fn near_crystal_elastic_disks() {
-    let (n, tau) = if full() {
+fn near_crystal_elastic_disks_case(size: Size) {
+    let (n, tau) = if size == Size::Full {
         (10_000, 1000.0)
     } else {
         (1024, 100.0)
@@ -223,11 +270,16 @@ fn near_crystal_elastic_disks() {
     assert!(reading.z.is_finite() && reading.z > 5.0);
 }
 
+sized!(
+    polydisperse_one_to_ten,
+    polydisperse_one_to_ten_full,
+    polydisperse_one_to_ten_case
+);
+
 /// Polydisperse 1:10: every tenth disk has diameter 1, the others 0.1 (cells are sized by the largest
 /// diameter, so a cell holds many small disks). Elastic energy exact; inelastic momentum exact.
-#[test]
-fn polydisperse_one_to_ten() {
-    let (n, tau) = if full() {
+fn polydisperse_one_to_ten_case(size: Size) {
+    let (n, tau) = if size == Size::Full {
         (20_000, 100.0)
     } else {
         (2000, 20.0)
@@ -269,16 +321,21 @@ fn polydisperse_one_to_ten() {
     }
 }
 
+sized!(very_dilute_gas, very_dilute_gas_full, very_dilute_gas_case);
+
 /// Very dilute gas, φ = 1e-4 (mean free path ≈ 2800 σ): cells of one diameter would be nearly all
 /// empty and crossings would dominate; `SimParams::for_density` sizes cells for ~0.4 disks each. The
 /// run must stay exact, the collision rate must be Enskog's, and the three cell sizes are reported.
-#[test]
-fn very_dilute_gas() {
-    let (n, tau) = if full() { (10_000, 20.0) } else { (1000, 5.0) };
+fn very_dilute_gas_case(size: Size) {
+    let (n, tau) = if size == Size::Full {
+        (10_000, 20.0)
+    } else {
+        (1000, 5.0)
+    };
     let auto = SimParams::for_density::<2>(1e-4).cell_factor;
     // Cells of one diameter (7000 crossings per collision, 30 kB per disk; measured at N = 10^4:
     // 42 collisions/s) only in the full run, and only for 1000 disks.
-    let sides: &[f64] = if full() {
+    let sides: &[f64] = if size == Size::Full {
         &[1.0, auto, 4.0 * auto]
     } else {
         &[auto, 4.0 * auto]
@@ -328,11 +385,20 @@ fn very_dilute_gas() {
     }
 }
 
+sized!(
+    ten_million_disks,
+    ten_million_disks_full,
+    ten_million_disks_case
+);
+
 /// N = 10^7 disks at φ = 0.3 (10^5 in CI): builds, runs τ = 1, reports collisions/s and bytes per
 /// particle; no overlap.
-#[test]
-fn ten_million_disks() {
-    let n = if full() { 10_000_000 } else { 100_000 };
+fn ten_million_disks_case(size: Size) {
+    let n = if size == Size::Full {
+        10_000_000
+    } else {
+        100_000
+    };
     let start = Instant::now();
     let mut p = InitParams::<2>::with_packing(n, 0.3).unwrap();
     p.seed = 1;

@@ -1,0 +1,17 @@
+//! The engine's integration tests, one binary: physics against theory and independent oracles,
+//! numerical stability, fuzzing. Long versions are `#[ignore]`d and run by `make stress` and
+//! `make validate`.
+
+mod collapse;
+mod conservation;
+mod deep_cooling;
+mod equilibrium;
+mod fuzz;
+mod gravity;
+mod haff;
+mod oracle;
+mod overlaps;
+mod regress_round_off_contact;
+mod rough;
+mod single_collision;
+mod stress;
