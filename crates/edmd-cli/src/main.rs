@@ -24,6 +24,7 @@ Examples:
   edmd status OUT                            how far a sweep has got
   edmd summarize OUT --format csv            the phase table as CSV
   edmd validate-spec SPEC                    check a spec without running it
+  edmd spec-schema                           the JSON Schema of specs (for editors and validators)
 
 Rerunning the same `edmd run` resumes a killed sweep: finished replicas are kept, partial ones redone.
 Exit status: 0 success; 1 bad input or I/O error; 2 the sweep ran but a replica failed, collapsed or
@@ -89,6 +90,8 @@ enum Command {
         /// Sweep spec (JSON).
         spec: PathBuf,
     },
+    /// Print the JSON Schema of sweep specs (the one in docs/sweep-spec.schema.json).
+    SpecSchema,
 }
 
 /// Output format of a phase table (the library's [`Format`], as a command-line value).
@@ -295,6 +298,10 @@ fn execute(command: Command) -> anyhow::Result<ExitCode> {
             let (dir, spec) = OutDir::open(&out)?;
             let records = dir.records(&spec)?;
             print!("{}", render(&phase_table(&spec, &records), format.into()));
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::SpecSchema => {
+            print!("{}", Spec::json_schema_text());
             Ok(ExitCode::SUCCESS)
         }
         Command::ValidateSpec { spec } => {

@@ -23,30 +23,40 @@ use edmd_core::theory::{critical_sizes, Transport};
 use serde::{Deserialize, Serialize};
 
 /// Thresholds of the classifier, with the defaults of PHYSICS.md §5.2.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct Thresholds {
     /// Start of the Haff-deviation window τ₀ (default 5).
+    #[schemars(schema_with = "crate::spec::domain::threshold")]
     pub haff_tau0: f64,
     /// ΔH above which the gas has left the homogeneous cooling state (default 0.1).
+    #[schemars(schema_with = "crate::spec::domain::threshold")]
     pub haff: f64,
     /// f_flow below which the gas is kinetic (default 0.05).
+    #[schemars(schema_with = "crate::spec::domain::threshold")]
     pub kinetic_flow: f64,
     /// δ²ρ − δ²ρ(0) below which the gas is kinetic (default 0.05).
+    #[schemars(schema_with = "crate::spec::domain::threshold")]
     pub kinetic_density: f64,
     /// S⊥(k₁) at and above which the gas shears (default 20).
+    #[schemars(schema_with = "crate::spec::domain::threshold")]
     pub shear_s_perp: f64,
     /// δ²ρ − δ²ρ(0) at and above which the gas clusters (default 0.15).
+    #[schemars(schema_with = "crate::spec::domain::threshold")]
     pub cluster_density: f64,
     /// f₂ₓ at and above which the gas clusters (default 0.05) …
+    #[schemars(schema_with = "crate::spec::domain::threshold")]
     pub cluster_f2x: f64,
     /// … if the grid has at least this many particles per cell (default 16).
+    #[schemars(schema_with = "crate::spec::domain::threshold")]
     pub cluster_f2x_min_per_cell: f64,
     /// S_ρ(k₁) at and above which, sustained, the gas clusters (default 10).
+    #[schemars(schema_with = "crate::spec::domain::threshold")]
     pub cluster_s_rho: f64,
     /// Consecutive samples that make S_ρ "sustained" (default 3).
     pub sustain: usize,
     /// τ window over which a class must hold before `stop.classified` ends a replica (default 50).
+    #[schemars(schema_with = "crate::spec::domain::threshold")]
     pub settle_window: f64,
 }
 

@@ -7,8 +7,21 @@ use edmd_core::{
     ConstantRestitution, EdmdError, ThesisRestitution, ThresholdRestitution, Viscoelastic,
 };
 
+use super::domain::{self, Domain};
 use super::{close_packing, Grid, Remedy, Replica, RuleSpec, Spec};
 use crate::SweepError;
+
+/// `field = value: reason` unless `value` lies in `domain`.
+fn within(field: &str, value: f64, domain: &Domain) -> Result<(), SweepError> {
+    if domain.contains(value) {
+        Ok(())
+    } else {
+        Err(SweepError::Spec(format!(
+            "{field} = {value}: {}",
+            domain.reason
+        )))
+    }
+}
 
 impl Spec {
     /// Checks every field; the error names the field and the value.
@@ -23,21 +36,30 @@ impl Spec {
         if grids.is_empty() {
             return bad("grid", &"[]", "no grid: the sweep has no replicas");
         }
-        for g in &grids {
-            self.validate_grid(g)?;
+        for (k, g) in grids.iter().enumerate() {
+            let at = match &self.grid {
+                super::OneOrMany::One(_) => "grid".to_string(),
+                super::OneOrMany::Many(_) => format!("grid[{k}]"),
+            };
+            self.validate_grid(g, &at)?;
         }
         self.validate_rest()
     }
 
-    fn validate_grid(&self, g: &Grid) -> Result<(), SweepError> {
+    /// The checks of one grid, whose fields are named `{at}.eps` and so on.
+    fn validate_grid(&self, g: &Grid, at: &str) -> Result<(), SweepError> {
         let bad = |field: &str, value: &dyn fmt::Display, reason: &str| {
-            Err(SweepError::Spec(format!("{field} = {value}: {reason}")))
+            Err(SweepError::Spec(format!(
+                "{at}.{field} = {value}: {reason}"
+            )))
         };
+        let within =
+            |field: &str, value: f64, d: &Domain| within(&format!("{at}.{field}"), value, d);
         let axes: [(&str, usize); 4] = [
-            ("grid.dim", g.dim.values().len()),
-            ("grid.boundary", g.boundary.values().len()),
-            ("grid.eps", g.eps.values().len()),
-            ("grid.remedy", g.remedy.values().len()),
+            ("dim", g.dim.values().len()),
+            ("boundary", g.boundary.values().len()),
+            ("eps", g.eps.values().len()),
+            ("remedy", g.remedy.values().len()),
         ];
         for (field, len) in axes {
             if len == 0 {
@@ -46,60 +68,51 @@ impl Spec {
         }
         for d in g.dim.values() {
             if d != 2 && d != 3 {
-                return bad("grid.dim", &d, "dimension must be 2 or 3");
+                return bad("dim", &d, "dimension must be 2 or 3");
             }
         }
         for e in g.eps.values() {
-            if !(0.0..=1.0).contains(&e) {
-                return bad("grid.eps", &e, "restitution must lie in [0, 1]");
-            }
+            within("eps", e, &domain::RESTITUTION)?;
         }
         match (&g.n, g.phi.is_some() && g.box_len.is_some()) {
             (Some(_), true) => {
                 return bad(
-                    "grid.n",
+                    "n",
                     &"given",
                     "omit n when both phi and box are given (N follows from them)",
                 )
             }
             (None, false) => {
                 return bad(
-                    "grid.n",
+                    "n",
                     &"missing",
                     "give n (or both phi and box, from which N follows)",
                 )
             }
             (Some(ns), false) => {
                 if ns.values().is_empty() {
-                    return bad("grid.n", &"[]", "empty axis: the grid has no replicas");
+                    return bad("n", &"[]", "empty axis: the grid has no replicas");
                 }
                 for n in ns.values() {
-                    if n < 2 {
-                        return bad("grid.n", &n, "need at least 2 particles");
-                    }
-                    if n > u32::MAX as usize / 2 {
-                        return bad("grid.n", &n, "too many particles");
-                    }
+                    within("n", n as f64, &domain::N)?;
                 }
             }
             (None, true) => {}
         }
-        if g.seeds == 0 {
-            return bad("grid.seeds", &0, "need at least one seed per grid point");
-        }
+        within("seeds", g.seeds as f64, &domain::SEEDS)?;
         if g.phi.is_none() && g.box_len.is_none() {
-            return bad("grid.phi/grid.box", &"neither", "give phi, box, or both");
+            return bad("phi/box", &"neither", "give phi, box, or both");
         }
         if let Some(phi) = &g.phi {
             let v = phi.values();
             if v.is_empty() {
-                return bad("grid.phi", &"[]", "empty axis: the grid has no replicas");
+                return bad("phi", &"[]", "empty axis: the grid has no replicas");
             }
             for p in v {
                 for d in g.dim.values() {
                     if !(p > 0.0 && p < close_packing(d)) {
                         return bad(
-                            "grid.phi",
+                            "phi",
                             &p,
                             &format!(
                                 "packing fraction must lie in (0, {:.4}), the close packing in {d}D",
@@ -113,31 +126,21 @@ impl Spec {
         if let Some(side) = &g.box_len {
             let v = side.values();
             if v.is_empty() {
-                return bad("grid.box", &"[]", "empty axis: the grid has no replicas");
+                return bad("box", &"[]", "empty axis: the grid has no replicas");
             }
             for l in v {
-                if !(l > 0.0 && l.is_finite()) {
-                    return bad("grid.box", &l, "box side must be positive");
-                }
+                within("box", l, &domain::BOX)?;
             }
         }
         for r in g.remedy.values() {
             match r {
                 Remedy::None => {}
-                Remedy::Tc { tc } => {
-                    if !(tc > 0.0 && tc.is_finite()) {
-                        return bad("grid.remedy.tc", &tc, "contact duration must be positive");
-                    }
-                }
-                Remedy::Rotation { theta_max_deg } => {
-                    if !(0.0..=90.0).contains(&theta_max_deg) {
-                        return bad(
-                            "grid.remedy.theta_max_deg",
-                            &theta_max_deg,
-                            "angle must lie in [0, 90] degrees",
-                        );
-                    }
-                }
+                Remedy::Tc { tc } => within("remedy.tc", tc, &domain::TC)?,
+                Remedy::Rotation { theta_max_deg } => within(
+                    "remedy.theta_max_deg",
+                    theta_max_deg,
+                    &domain::THETA_MAX_DEG,
+                )?,
             }
         }
         Ok(())
@@ -150,37 +153,19 @@ impl Spec {
         match self.rule {
             RuleSpec::Constant => {}
             RuleSpec::Threshold { delta, eps_low } => {
-                if !(delta >= 0.0 && delta.is_finite()) {
-                    return bad("rule.delta", &delta, "threshold speed must be ≥ 0");
-                }
-                if !(0.0..=1.0).contains(&eps_low) {
-                    return bad("rule.eps_low", &eps_low, "restitution must lie in [0, 1]");
-                }
+                within("rule.delta", delta, &domain::DELTA)?;
+                within("rule.eps_low", eps_low, &domain::RESTITUTION)?;
             }
-            RuleSpec::Thesis { v0 } => {
-                if !(v0 > 0.0 && v0.is_finite()) {
-                    return bad("rule.v0", &v0, "crossover speed must be positive");
-                }
-            }
-            RuleSpec::Viscoelastic { speed } => {
-                if !(speed > 0.0 && speed.is_finite()) {
-                    return bad("rule.speed", &speed, "reference speed must be positive");
-                }
-            }
+            RuleSpec::Thesis { v0 } => within("rule.v0", v0, &domain::V0)?,
+            RuleSpec::Viscoelastic { speed } => within("rule.speed", speed, &domain::SPEED)?,
         }
         if let Some(m) = self.init.melt_tau {
-            if !(m >= 0.0 && m.is_finite()) {
-                return bad("init.melt_tau", &m, "must be ≥ 0");
-            }
+            within("init.melt_tau", m, &domain::MELT_TAU)?;
         }
         let s = &self.stop;
-        if !(s.tau_max > 0.0 && s.tau_max.is_finite()) {
-            return bad("stop.tau_max", &s.tau_max, "must be positive and finite");
-        }
+        within("stop.tau_max", s.tau_max, &domain::TAU_MAX)?;
         if let Some(t) = s.temperature_ratio {
-            if !(t > 0.0 && t < 1.0) {
-                return bad("stop.temperature_ratio", &t, "must lie in (0, 1)");
-            }
+            within("stop.temperature_ratio", t, &domain::TEMPERATURE_RATIO)?;
         }
         if s.classified && self.classify.is_none() {
             return bad(
@@ -191,9 +176,7 @@ impl Spec {
         }
         if let Some(c) = &self.classify {
             if let Some(g) = c.grid {
-                if !(1..=1024).contains(&g) {
-                    return bad("classify.grid", &g, "cells per axis must lie in 1..=1024");
-                }
+                within("classify.grid", g as f64, &domain::CLASSIFY_GRID)?;
             }
             let t = &c.thresholds;
             for (field, v) in [
@@ -211,35 +194,21 @@ impl Spec {
                 ("classify.thresholds.cluster_s_rho", t.cluster_s_rho),
                 ("classify.thresholds.settle_window", t.settle_window),
             ] {
-                if !(v >= 0.0 && v.is_finite()) {
-                    return bad(field, &v, "must be ≥ 0 and finite");
-                }
+                within(field, v, &domain::THRESHOLD)?;
             }
         }
         if let Some(e) = self.samples.every {
-            if !(e > 0.0 && e.is_finite()) {
-                return bad("samples.every", &e, "must be positive");
-            }
+            within("samples.every", e, &domain::EVERY)?;
         }
-        if !(self.samples.log_from > 0.0 && self.samples.log_from.is_finite()) {
-            return bad(
-                "samples.log_from",
-                &self.samples.log_from,
-                "must be positive",
-            );
-        }
+        within("samples.log_from", self.samples.log_from, &domain::LOG_FROM)?;
         for &t in &self.snapshots.at {
-            if !(t >= 0.0 && t.is_finite()) {
-                return bad("snapshots.at", &t, "snapshot times must be ≥ 0");
-            }
+            within("snapshots.at", t, &domain::SNAPSHOT_AT)?;
         }
-        if self.output.compression > 9 {
-            return bad(
-                "output.compression",
-                &self.output.compression,
-                "deflate level must lie in 0..=9",
-            );
-        }
+        within(
+            "output.compression",
+            self.output.compression as f64,
+            &domain::COMPRESSION,
+        )?;
         // Every replica's box must hold a cell list and its start must be reachable.
         for r in self.replicas() {
             check_replica(self, &r)?;

@@ -4,11 +4,15 @@
 //! schedule, the snapshots to store and output options. Unknown fields are rejected; every check names
 //! the field and the value. The full reference is `docs/sweep-spec.md` and `docs/sweep-spec.schema.json`.
 
+use std::borrow::Cow;
+
+use schemars::{json_schema, JsonSchema, Schema, SchemaGenerator};
 use serde::{Deserialize, Serialize};
 
 use crate::SweepError;
 
 mod check;
+pub mod domain;
 mod expand;
 
 pub use check::viscoelastic;
@@ -43,6 +47,22 @@ impl<'de, T: serde::de::DeserializeOwned> Deserialize<'de> for OneOrMany<T> {
     }
 }
 
+/// In the schema: a value or a non-empty list of values.
+impl<T: JsonSchema> JsonSchema for OneOrMany<T> {
+    fn schema_name() -> Cow<'static, str> {
+        format!("OneOrMany_{}", T::schema_name()).into()
+    }
+
+    fn inline_schema() -> bool {
+        true
+    }
+
+    fn json_schema(generator: &mut SchemaGenerator) -> Schema {
+        let one = generator.subschema_for::<T>();
+        json_schema!({ "oneOf": [one, { "type": "array", "items": one, "minItems": 1 }] })
+    }
+}
+
 impl<T: Clone> OneOrMany<T> {
     /// The values as a list.
     pub fn values(&self) -> Vec<T> {
@@ -54,7 +74,7 @@ impl<T: Clone> OneOrMany<T> {
 }
 
 /// Boundary conditions of the box.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "lowercase")]
 pub enum BoundaryKind {
     /// Periodic along every axis.
@@ -87,7 +107,7 @@ impl BoundaryKind {
 }
 
 /// A remedy against inelastic collapse, applied on top of the rule.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(tag = "kind", rename_all = "lowercase", deny_unknown_fields)]
 pub enum Remedy {
     /// No remedy.
@@ -95,11 +115,13 @@ pub enum Remedy {
     /// TC model: collisions within `tc` of a partner's previous collision are elastic.
     Tc {
         /// Contact duration t_c (time units of σ√(m/T0)).
+        #[schemars(schema_with = "domain::tc_one")]
         tc: f64,
     },
     /// Random rotation of the relative post-collision velocity by up to `theta_max_deg` degrees.
     Rotation {
         /// Largest rotation angle in degrees, in [0, 90].
+        #[schemars(schema_with = "domain::theta_one")]
         theta_max_deg: f64,
     },
 }
@@ -116,7 +138,7 @@ impl Remedy {
 }
 
 /// The collision law; the grid's `eps` sets its restitution (see each variant).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema, Default)]
 #[serde(tag = "kind", rename_all = "lowercase", deny_unknown_fields)]
 pub enum RuleSpec {
     /// Constant normal restitution ε = `eps`.
@@ -125,15 +147,18 @@ pub enum RuleSpec {
     /// ε = `eps` above the normal speed `delta`, `eps_low` (default 1) below it.
     Threshold {
         /// Normal-speed threshold δ.
+        #[schemars(schema_with = "domain::delta_one")]
         delta: f64,
         /// Restitution below δ (default 1).
         #[serde(default = "one")]
+        #[schemars(schema_with = "domain::eps_low_one")]
         eps_low: f64,
     },
     /// The thesis's eq. 5.1 with r0 = `eps` and the given `v0` (default 0.3).
     Thesis {
         /// Crossover speed v0.
         #[serde(default = "default_v0")]
+        #[schemars(schema_with = "domain::v0_one")]
         v0: f64,
     },
     /// Viscoelastic spheres, damping chosen so that ε = `eps` at normal speed `speed` (default 1)
@@ -141,6 +166,7 @@ pub enum RuleSpec {
     Viscoelastic {
         /// Reference normal speed.
         #[serde(default = "one")]
+        #[schemars(schema_with = "domain::speed_one")]
         speed: f64,
     },
 }
@@ -153,7 +179,7 @@ fn default_v0() -> f64 {
 }
 
 /// Initial velocity distribution.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema, Default)]
 #[serde(rename_all = "lowercase")]
 pub enum VelocityKind {
     /// Maxwell–Boltzmann (default).
@@ -164,7 +190,7 @@ pub enum VelocityKind {
 }
 
 /// How the initial state is made.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct InitSpec {
     /// Velocity distribution.
@@ -173,6 +199,7 @@ pub struct InitSpec {
     /// Elastic collisions per particle run before the inelastic rule starts (default 0 for a random
     /// start, 20 for a lattice start at high density).
     #[serde(default)]
+    #[schemars(schema_with = "domain::melt_optional")]
     pub melt_tau: Option<f64>,
 }
 
@@ -186,13 +213,15 @@ impl Default for InitSpec {
 }
 
 /// When a replica ends.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct StopSpec {
     /// Pair collisions per particle τ = C/N at which the run ends.
+    #[schemars(schema_with = "domain::tau_max_one")]
     pub tau_max: f64,
     /// End earlier, at the first sample where T/T0 falls below this value.
     #[serde(default)]
+    #[schemars(schema_with = "domain::temperature_ratio_optional")]
     pub temperature_ratio: Option<f64>,
     /// End earlier, once the replica's class is settled (needs a `classify` section).
     #[serde(default)]
@@ -200,11 +229,12 @@ pub struct StopSpec {
 }
 
 /// Order parameters and the regime classifier (PHYSICS.md §5).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ClassifySpec {
     /// Cells per axis of the order-parameter grid (default: about 16 particles per cell).
     #[serde(default)]
+    #[schemars(schema_with = "domain::classify_grid_optional")]
     pub grid: Option<usize>,
     /// Thresholds of the classifier.
     #[serde(default)]
@@ -221,17 +251,19 @@ impl ClassifySpec {
 }
 
 /// When observables are sampled (the union of a linear and a logarithmic grid in τ).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SampleSpec {
     /// Sample every this many collisions per particle (none if absent).
     #[serde(default)]
+    #[schemars(schema_with = "domain::every_optional")]
     pub every: Option<f64>,
     /// Samples per decade of τ on a logarithmic grid (default 10; 0 for none).
     #[serde(default = "default_per_decade")]
     pub per_decade: u32,
     /// First τ of the logarithmic grid (default 0.1).
     #[serde(default = "default_log_from")]
+    #[schemars(schema_with = "domain::log_from_one")]
     pub log_from: f64,
 }
 
@@ -253,11 +285,12 @@ impl Default for SampleSpec {
 }
 
 /// Which particle snapshots (positions, velocities) are stored.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SnapshotSpec {
     /// τ values at which to store a snapshot (default `[0]`).
     #[serde(default = "default_snapshot_at")]
+    #[schemars(schema_with = "domain::snapshot_list")]
     pub at: Vec<f64>,
     /// Also store the final state (default true).
     #[serde(default = "default_true", rename = "final")]
@@ -281,11 +314,12 @@ impl Default for SnapshotSpec {
 }
 
 /// Output options.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct OutputSpec {
     /// Deflate level of the replica files' datasets, 0 (none) to 9 (default 4).
     #[serde(default = "default_compression")]
+    #[schemars(schema_with = "domain::compression_one")]
     pub compression: u8,
     /// The H5MD author name written into every file (default "edmd user").
     #[serde(default = "default_author")]
@@ -309,28 +343,39 @@ impl Default for OutputSpec {
 }
 
 /// The grid of replicas: the Cartesian product of its axes.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
+#[schemars(extend("anyOf" = [
+    { "required": ["n", "phi"], "not": { "required": ["box"] } },
+    { "required": ["n", "box"], "not": { "required": ["phi"] } },
+    { "required": ["phi", "box"], "not": { "required": ["n"] } }
+]))]
 pub struct Grid {
     /// Dimension, 2 (disks) or 3 (spheres) (default 2).
     #[serde(default = "default_dim")]
+    #[schemars(schema_with = "domain::dim_axis")]
     pub dim: OneOrMany<usize>,
     /// Boundary conditions (default periodic).
     #[serde(default = "default_boundary")]
     pub boundary: OneOrMany<BoundaryKind>,
     /// Restitution coefficients ε (the rule says how ε is used).
+    #[schemars(schema_with = "domain::eps_axis")]
     pub eps: OneOrMany<f64>,
     /// Packing fractions φ (with `n`, or with `box` for N to follow).
     #[serde(default)]
+    #[schemars(schema_with = "domain::phi_axis")]
     pub phi: Option<OneOrMany<f64>>,
     /// Box sides L in particle diameters (square or cubic box; with `n`, or with `phi`).
     #[serde(default, rename = "box")]
+    #[schemars(schema_with = "domain::box_axis")]
     pub box_len: Option<OneOrMany<f64>>,
     /// Particle numbers N (omit when both `phi` and `box` are given: N = round(φ L^D / v₁)).
     #[serde(default)]
+    #[schemars(schema_with = "domain::n_axis")]
     pub n: Option<OneOrMany<usize>>,
     /// Independent seeds per grid point (default 1).
     #[serde(default = "default_seeds")]
+    #[schemars(schema_with = "domain::seeds_one")]
     pub seeds: u32,
     /// Collapse remedies (default none).
     #[serde(default = "default_remedy")]
@@ -350,9 +395,15 @@ fn default_remedy() -> OneOrMany<Remedy> {
     OneOrMany::One(Remedy::None)
 }
 
-/// A sweep specification.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+/// A sweep specification: the JSON file given to `edmd run` (reference: docs/sweep-spec.md).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
+#[schemars(
+    title = "edmd sweep spec",
+    extend("$id" = "https://github.com/edmd-project/edmd/docs/sweep-spec.schema.json"),
+    extend("if" = { "required": ["stop"], "properties": { "stop": { "required": ["classified"], "properties": { "classified": { "const": true } } } } }),
+    extend("then" = { "required": ["classify"] })
+)]
 pub struct Spec {
     /// Name of the sweep (used in tables and file attributes).
     pub name: String,
@@ -387,6 +438,13 @@ pub struct Spec {
 }
 
 impl Spec {
+    /// The JSON Schema of specs, generated from these types (committed as
+    /// `docs/sweep-spec.schema.json`; a test fails when the two drift apart).
+    pub fn json_schema_text() -> String {
+        let schema = schemars::schema_for!(Spec);
+        serde_json::to_string_pretty(&schema).expect("a schema serialises") + "\n"
+    }
+
     /// Parses and validates a spec from JSON text.
     pub fn from_json(text: &str) -> Result<Spec, SweepError> {
         let spec: Spec = serde_json::from_str(text).map_err(|e| SweepError::Spec(e.to_string()))?;
@@ -402,5 +460,26 @@ impl Spec {
     /// Hash of the canonical form, stored in every output file.
     pub fn hash(&self) -> String {
         format!("{:016x}", stable_hash(self.canonical_json().as_bytes()))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Spec;
+
+    /// The committed schema is the one the types generate: regenerate it with
+    /// `cargo run -p edmd-cli -- spec-schema > docs/sweep-spec.schema.json` after changing a type.
+    #[test]
+    fn committed_schema_matches_the_types() {
+        let path = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../docs/sweep-spec.schema.json"
+        );
+        let committed = std::fs::read_to_string(path).expect("docs/sweep-spec.schema.json");
+        assert!(
+            committed == Spec::json_schema_text(),
+            "docs/sweep-spec.schema.json differs from the spec types: run \
+             `cargo run -p edmd-cli -- spec-schema > docs/sweep-spec.schema.json`"
+        );
     }
 }

@@ -1,0 +1,270 @@
+//! The domains of the numeric spec fields, declared once: [`check`](super::check) enforces them with a
+//! message naming the field and the value, and the JSON Schema carries them (`minimum`, `maximum`, …)
+//! through the `schema_with` functions below, which the spec types name in their `#[schemars]`
+//! attributes. Checks that relate several fields (φ below the close packing of the chosen D, N against
+//! the box) stay in `check`.
+
+use schemars::{json_schema, Schema, SchemaGenerator};
+use serde_json::{json, Map, Value};
+
+/// An interval of allowed values (always finite), with the reason given when a value lies outside.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Domain {
+    /// Lower end.
+    pub min: f64,
+    /// Whether the lower end itself is excluded.
+    pub min_open: bool,
+    /// Upper end (∞: none).
+    pub max: f64,
+    /// Whether the upper end itself is excluded.
+    pub max_open: bool,
+    /// Integers only.
+    pub integer: bool,
+    /// What the error message says.
+    pub reason: &'static str,
+}
+
+impl Domain {
+    const fn new(min: f64, min_open: bool, max: f64, max_open: bool, reason: &'static str) -> Self {
+        Domain {
+            min,
+            min_open,
+            max,
+            max_open,
+            integer: false,
+            reason,
+        }
+    }
+
+    /// `[min, max]`.
+    pub const fn closed(min: f64, max: f64, reason: &'static str) -> Self {
+        Domain::new(min, false, max, false, reason)
+    }
+
+    /// `(min, max)`.
+    pub const fn open(min: f64, max: f64, reason: &'static str) -> Self {
+        Domain::new(min, true, max, true, reason)
+    }
+
+    /// `(0, ∞)`.
+    pub const fn positive(reason: &'static str) -> Self {
+        Domain::new(0.0, true, f64::INFINITY, true, reason)
+    }
+
+    /// `[0, ∞)`.
+    pub const fn non_negative(reason: &'static str) -> Self {
+        Domain::new(0.0, false, f64::INFINITY, true, reason)
+    }
+
+    /// The integers of `[min, max]`.
+    pub const fn integers(min: f64, max: f64, reason: &'static str) -> Self {
+        Domain {
+            integer: true,
+            ..Domain::closed(min, max, reason)
+        }
+    }
+
+    /// Whether `v` lies in the domain (NaN and ±∞ never do).
+    pub fn contains(&self, v: f64) -> bool {
+        let above = if self.min_open {
+            v > self.min
+        } else {
+            v >= self.min
+        };
+        let below = if self.max_open {
+            v < self.max
+        } else {
+            v <= self.max
+        };
+        v.is_finite() && above && below && (!self.integer || v.fract() == 0.0)
+    }
+
+    /// The JSON Schema of one value.
+    pub fn value(&self) -> Value {
+        let mut m = Map::new();
+        m.insert(
+            "type".into(),
+            json!(if self.integer { "integer" } else { "number" }),
+        );
+        let (lo, hi) = if self.min_open {
+            ("exclusiveMinimum", self.min)
+        } else {
+            ("minimum", self.min)
+        };
+        m.insert(lo.into(), number(hi));
+        if self.max.is_finite() {
+            let key = if self.max_open {
+                "exclusiveMaximum"
+            } else {
+                "maximum"
+            };
+            m.insert(key.into(), number(self.max));
+        }
+        Value::Object(m)
+    }
+
+    /// A single value.
+    pub fn one(&self) -> Schema {
+        Schema::try_from(self.value()).expect("an object")
+    }
+
+    /// A value or `null` (an optional field).
+    pub fn optional(&self) -> Schema {
+        let mut v = self.value();
+        let t = v["type"].clone();
+        v["type"] = json!([t, "null"]);
+        Schema::try_from(v).expect("an object")
+    }
+
+    /// A value or a non-empty list of values (a grid axis).
+    pub fn axis(&self) -> Schema {
+        let one = self.value();
+        json_schema!({
+            "oneOf": [one, { "type": "array", "items": one, "minItems": 1 }]
+        })
+    }
+
+    /// A list of values.
+    pub fn list(&self) -> Schema {
+        let one = self.value();
+        json_schema!({ "type": "array", "items": one })
+    }
+}
+
+/// A whole number as a JSON integer (0.9069 stays a float; 1.0 becomes 1).
+fn number(x: f64) -> Value {
+    if x.fract() == 0.0 && x.abs() < 1e15 {
+        json!(x as i64)
+    } else {
+        json!(x)
+    }
+}
+
+/// Restitution coefficients.
+pub const RESTITUTION: Domain = Domain::closed(0.0, 1.0, "restitution must lie in [0, 1]");
+/// Packing fractions: the schema bound is the densest (2D) packing; `check` uses the one of D.
+pub const PHI: Domain = Domain::open(0.0, 0.9069, "packing fraction must lie below close packing");
+/// Box sides.
+pub const BOX: Domain = Domain::positive("box side must be positive");
+/// Particle numbers.
+pub const N: Domain = Domain::integers(
+    2.0,
+    (u32::MAX / 2) as f64,
+    "need at least 2 particles (and at most 2^31 − 1)",
+);
+/// Seeds per grid point.
+pub const SEEDS: Domain = Domain::integers(
+    1.0,
+    u32::MAX as f64,
+    "need at least one seed per grid point",
+);
+/// The TC model's contact duration.
+pub const TC: Domain = Domain::positive("contact duration must be positive");
+/// The random rotation's largest angle.
+pub const THETA_MAX_DEG: Domain = Domain::closed(0.0, 90.0, "angle must lie in [0, 90] degrees");
+/// The velocity threshold of the threshold rule.
+pub const DELTA: Domain = Domain::non_negative("threshold speed must be ≥ 0");
+/// The thesis law's crossover speed.
+pub const V0: Domain = Domain::positive("crossover speed must be positive");
+/// The viscoelastic rule's reference speed.
+pub const SPEED: Domain = Domain::positive("reference speed must be positive");
+/// Elastic melt before cooling.
+pub const MELT_TAU: Domain = Domain::non_negative("must be ≥ 0");
+/// The stop condition in τ.
+pub const TAU_MAX: Domain = Domain::positive("must be positive and finite");
+/// The early stop on T/T0.
+pub const TEMPERATURE_RATIO: Domain = Domain::open(0.0, 1.0, "must lie in (0, 1)");
+/// Cells per axis of the order-parameter grid.
+pub const CLASSIFY_GRID: Domain =
+    Domain::integers(1.0, 1024.0, "cells per axis must lie in 1..=1024");
+/// Every classifier threshold.
+pub const THRESHOLD: Domain = Domain::non_negative("must be ≥ 0 and finite");
+/// The linear sample interval.
+pub const EVERY: Domain = Domain::positive("must be positive");
+/// The start of the logarithmic sample grid.
+pub const LOG_FROM: Domain = Domain::positive("must be positive");
+/// Snapshot times.
+pub const SNAPSHOT_AT: Domain = Domain::non_negative("snapshot times must be ≥ 0");
+/// The deflate level.
+pub const COMPRESSION: Domain = Domain::integers(0.0, 9.0, "deflate level must lie in 0..=9");
+
+/// `schema_with` functions for the `#[schemars]` attributes of the spec types.
+macro_rules! schema_fns {
+    ($($name:ident => $domain:ident . $shape:ident),* $(,)?) => {
+        $(
+            pub(crate) fn $name(_: &mut SchemaGenerator) -> Schema {
+                $domain.$shape()
+            }
+        )*
+    };
+}
+
+schema_fns! {
+    eps_axis => RESTITUTION.axis,
+    phi_axis => PHI.optional_axis,
+    box_axis => BOX.optional_axis,
+    n_axis => N.optional_axis,
+    seeds_one => SEEDS.one,
+    tc_one => TC.one,
+    theta_one => THETA_MAX_DEG.one,
+    delta_one => DELTA.one,
+    eps_low_one => RESTITUTION.one,
+    v0_one => V0.one,
+    speed_one => SPEED.one,
+    melt_optional => MELT_TAU.optional,
+    tau_max_one => TAU_MAX.one,
+    temperature_ratio_optional => TEMPERATURE_RATIO.optional,
+    classify_grid_optional => CLASSIFY_GRID.optional,
+    threshold => THRESHOLD.one,
+    every_optional => EVERY.optional,
+    log_from_one => LOG_FROM.one,
+    snapshot_list => SNAPSHOT_AT.list,
+    compression_one => COMPRESSION.one,
+}
+
+impl Domain {
+    /// An absent, `null`, single or listed value (an optional grid axis).
+    pub fn optional_axis(&self) -> Schema {
+        let one = self.value();
+        json_schema!({
+            "oneOf": [one, { "type": "array", "items": one, "minItems": 1 }, { "type": "null" }]
+        })
+    }
+}
+
+/// The dimension axis: 2 or 3, or a non-empty list of them.
+pub(crate) fn dim_axis(_: &mut SchemaGenerator) -> Schema {
+    json_schema!({
+        "oneOf": [
+            { "enum": [2, 3] },
+            { "type": "array", "items": { "enum": [2, 3] }, "minItems": 1 }
+        ]
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn domains_include_and_exclude_their_ends() {
+        assert!(RESTITUTION.contains(0.0) && RESTITUTION.contains(1.0));
+        assert!(!RESTITUTION.contains(1.0 + 1e-12) && !RESTITUTION.contains(f64::NAN));
+        assert!(!TAU_MAX.contains(0.0) && TAU_MAX.contains(1e-300));
+        assert!(!TAU_MAX.contains(f64::INFINITY));
+        assert!(N.contains(2.0) && !N.contains(1.0) && !N.contains(2.5));
+        assert!(!TEMPERATURE_RATIO.contains(1.0) && TEMPERATURE_RATIO.contains(0.5));
+        assert_eq!(
+            RESTITUTION.value(),
+            json!({"type": "number", "minimum": 0, "maximum": 1})
+        );
+        assert_eq!(
+            TAU_MAX.value(),
+            json!({"type": "number", "exclusiveMinimum": 0})
+        );
+        assert_eq!(
+            N.value(),
+            json!({"type": "integer", "minimum": 2, "maximum": 2147483647})
+        );
+    }
+}
