@@ -17,6 +17,7 @@ use edmd::{
     CollisionRule, ConstantRestitution, Elastic, InitParams, Periodic, RandomRotation, Schedule,
     Stop, TcModel, ThresholdRestitution, Vector,
 };
+use edmd_core::geometry::ball_volume;
 use edmd_core::theory::{chi, chi_from_frequency, critical_sizes, haff_rate, Transport};
 
 /// Slopes −d ln T/dτ on [5, tau_end] of `seeds` runs, their mean, standard error and wall seconds.
@@ -63,11 +64,11 @@ fn cooling<R: CollisionRule + Copy>(
 fn homogeneous_box(eps: f64, phi: f64, cap: usize) -> (usize, f64) {
     let (l_perp, _) = critical_sizes(2, eps, phi, 1.0, Transport::Enskog);
     let mut side = 0.5 * l_perp;
-    let mut n = (phi * side * side / (std::f64::consts::PI / 4.0)) as usize;
+    let mut n = (phi * side * side / ball_volume(2, 0.5)) as usize;
     if n > cap {
         n = cap;
     }
-    side = (n as f64 * std::f64::consts::PI / 4.0 / phi).sqrt();
+    side = (n as f64 * ball_volume(2, 0.5) / phi).sqrt();
     (n, side)
 }
 
@@ -86,7 +87,7 @@ fn remedies() {
             let (n, side) = homogeneous_box(eps, phi, 2000);
             (n, side, (64_000 / n).clamp(8, 400) as u64)
         } else {
-            (1024, (1024.0 * std::f64::consts::PI / 4.0 / phi).sqrt(), 16)
+            (1024, (1024.0 * ball_volume(2, 0.5) / phi).sqrt(), 16)
         };
         let c = ConstantRestitution::new(eps).unwrap();
         let theory = haff_rate(2, eps);

@@ -31,6 +31,7 @@ pub mod calendar;
 pub mod cells;
 pub mod collide;
 pub mod error;
+pub mod geometry;
 pub mod init;
 pub mod nlist;
 pub mod observe;

@@ -10,6 +10,7 @@
 #![warn(missing_docs)]
 
 pub mod classify;
+pub mod domain;
 mod error;
 pub mod h5md;
 pub mod merge;

@@ -244,9 +244,5 @@ impl<const D: usize> InitParams<D> {
 
 /// Volume of a D-ball of radius r.
 pub fn unit_volume<const D: usize>(r: f64) -> f64 {
-    if D == 2 {
-        std::f64::consts::PI * r * r
-    } else {
-        4.0 / 3.0 * std::f64::consts::PI * r.powi(3)
-    }
+    crate::geometry::ball_volume(D, r)
 }

@@ -104,11 +104,7 @@ impl SimParams {
     pub fn for_density<const D: usize>(phi: f64) -> Self {
         // Measured (edmd-core/examples/profile): cells of one diameter are fastest at φ ≥ 0.3; dilute
         // gases keep about 0.4 particles per cell, so crossings do not dominate.
-        let per_cell_volume = if D == 2 {
-            std::f64::consts::PI / 4.0
-        } else {
-            std::f64::consts::PI / 6.0
-        };
+        let per_cell_volume = crate::geometry::ball_volume(D, 0.5);
         let side = (0.4 * per_cell_volume / phi.max(1e-12)).powf(1.0 / D as f64);
         // Neighbour lists pay in dense 3D packings (measured at N = 10^4 with examples/profile, skin
         // 0.45 against cells: φ = 0.35 1.00×, 0.4 1.12×, 0.45 1.4×, 0.5 1.65×; skins 0.35-0.5 within

@@ -7,7 +7,7 @@ use edmd_core::{
     ConstantRestitution, EdmdError, ThesisRestitution, ThresholdRestitution, Viscoelastic,
 };
 
-use super::domain::{self, Domain};
+use crate::domain::{self, Domain};
 use super::{close_packing, Grid, Remedy, Replica, RuleSpec, Spec};
 use crate::SweepError;
 

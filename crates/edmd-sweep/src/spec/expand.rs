@@ -100,23 +100,12 @@ impl fmt::Display for Replica {
     }
 }
 
-/// Volume of a ball of diameter 1 in `d` dimensions.
+/// Volume of a particle of diameter 1 in `d` dimensions.
 pub fn ball_volume(d: usize) -> f64 {
-    if d == 2 {
-        std::f64::consts::PI / 4.0
-    } else {
-        std::f64::consts::PI / 6.0
-    }
+    edmd_core::geometry::ball_volume(d, 0.5)
 }
 
-/// Densest packing fraction of equal disks (hexagonal) or spheres (fcc).
-pub fn close_packing(d: usize) -> f64 {
-    if d == 2 {
-        std::f64::consts::PI / (2.0 * 3f64.sqrt())
-    } else {
-        std::f64::consts::PI / (3.0 * 2f64.sqrt())
-    }
-}
+pub use edmd_core::geometry::close_packing;
 
 /// SplitMix64 finaliser: a well-mixed 64-bit hash step.
 fn mix(mut z: u64) -> u64 {

@@ -9,10 +9,10 @@ use std::borrow::Cow;
 use schemars::{json_schema, JsonSchema, Schema, SchemaGenerator};
 use serde::{Deserialize, Serialize};
 
+use crate::domain;
 use crate::SweepError;
 
 mod check;
-pub mod domain;
 mod expand;
 
 pub use check::viscoelastic;

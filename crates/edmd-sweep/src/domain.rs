@@ -1,4 +1,4 @@
-//! The domains of the numeric spec fields, declared once: [`check`](super::check) enforces them with a
+//! The domains of the numeric spec fields, declared once: the spec's checks enforce them with a
 //! message naming the field and the value, and the JSON Schema carries them (`minimum`, `maximum`, …)
 //! through the `schema_with` functions below, which the spec types name in their `#[schemars]`
 //! attributes. Checks that relate several fields (φ below the close packing of the chosen D, N against

@@ -1,214 +1,15 @@
-//! Running one replica: build the scene, rule and remedy as monomorphised types, run to the stop
-//! condition, and collect the observables and snapshots in memory.
+//! The run of one replica in its monomorphised types: melt, cool to the stop, sample observables
+//! and order parameters on the schedule, keep the snapshots, watch for collapse and stalls.
 
-use std::time::Instant;
-
-use edmd_core::theory::{haff_rate, haff_temperature_tau};
+use edmd_core::theory::haff_temperature_tau;
 use edmd_core::{
-    order_parameters, Boundary, Channel, CollisionRule, ConstantRestitution, EdmdError, InitParams,
-    Periodic, RandomRotation, RunEnd, Schedule, Simulation, Stop, TcModel, ThesisRestitution,
-    ThresholdRestitution, Vector, Velocities, VirialMeter, Walls,
+    order_parameters, Boundary, CollisionRule, EdmdError, InitParams, RunEnd, Schedule, Simulation,
+    Stop, Vector, Velocities, VirialMeter,
 };
 
-use crate::classify::{
-    classify, critical_box_sides, settled, Class, Classification, OrderSeries, Theory,
-};
-pub use crate::record::Status;
-use crate::spec::{viscoelastic, BoundaryKind, Remedy, Replica, RuleSpec, Spec, VelocityKind};
-
-/// Observables sampled at the points of the schedule.
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct Series {
-    /// Pair collisions C (the H5MD `step`).
-    pub step: Vec<i64>,
-    /// Physical time.
-    pub time: Vec<f64>,
-    /// τ = C/N.
-    pub tau: Vec<f64>,
-    /// Granular temperature T (underflows to 0 below 1e-308; see `ln_temperature`).
-    pub temperature: Vec<f64>,
-    /// ln T, finite however deep the cooling.
-    pub ln_temperature: Vec<f64>,
-    /// Total kinetic energy.
-    pub kinetic_energy: Vec<f64>,
-    /// Speed kurtosis ⟨v⁴⟩/⟨v²⟩².
-    pub kurtosis: Vec<f64>,
-    /// Particle–wall collisions.
-    pub wall_collisions: Vec<i64>,
-    /// Compressibility factor Z = pV/(NT) from the collision virial since the previous sample
-    /// (NaN at the first sample).
-    pub compressibility: Vec<f64>,
-    /// Pressure p = Z N T / V (NaN at the first sample).
-    pub pressure: Vec<f64>,
-    /// |Σ m v| / Σ m|v|: momentum conservation (round-off level in periodic boxes).
-    pub momentum_error: Vec<f64>,
-    /// Haff's law T0 exp(−k(ε) τ) (first Sonine order), for the constant-restitution rule only.
-    pub haff_temperature: Vec<f64>,
-    /// Order parameters (empty unless the spec has a `classify` section).
-    pub order: OrderSeries,
-}
-
-/// Positions and velocities at one instant, in the original particle order.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Snapshot {
-    /// Pair collisions C.
-    pub step: i64,
-    /// Physical time.
-    pub time: f64,
-    /// Positions, N × D, row-major.
-    pub position: Vec<f64>,
-    /// Velocities, N × D, row-major.
-    pub velocity: Vec<f64>,
-}
-
-/// Everything a replica produced.
-#[derive(Debug, Clone)]
-pub struct Outcome {
-    /// How it ended.
-    pub status: Status,
-    /// Why (empty when done normally).
-    pub message: String,
-    /// Sampled observables.
-    pub series: Series,
-    /// Stored snapshots.
-    pub snapshots: Vec<Snapshot>,
-    /// Box sides.
-    pub box_len: Vec<f64>,
-    /// Particle radii.
-    pub radius: Vec<f64>,
-    /// Particle masses.
-    pub mass: Vec<f64>,
-    /// Initial temperature T0.
-    pub t0: f64,
-    /// Pair collisions run.
-    pub collisions: u64,
-    /// (time, τ) of a detected collapse.
-    pub collapse: Option<(f64, f64)>,
-    /// Wall-clock seconds spent simulating.
-    pub wall_s: f64,
-    /// The classifier's verdict (None unless the spec has a `classify` section).
-    pub classification: Option<Classification>,
-    /// Particles per cell of the order-parameter grid (NaN without classification).
-    pub per_cell: f64,
-}
-
-impl Outcome {
-    fn failed(message: String) -> Outcome {
-        Outcome {
-            status: Status::Failed,
-            message,
-            series: Series::default(),
-            snapshots: Vec::new(),
-            box_len: Vec::new(),
-            radius: Vec::new(),
-            mass: Vec::new(),
-            t0: f64::NAN,
-            collisions: 0,
-            collapse: None,
-            wall_s: 0.0,
-            classification: None,
-            per_cell: f64::NAN,
-        }
-    }
-
-    /// The last sample's τ, or 0.
-    pub fn final_tau(&self) -> f64 {
-        self.series.tau.last().copied().unwrap_or(0.0)
-    }
-}
-
-/// Runs a replica. `progress` is called with the number of new pair collisions every so often.
-pub fn run(spec: &Spec, r: &Replica, progress: &(dyn Fn(u64) + Sync)) -> Outcome {
-    let start = Instant::now();
-    let result = match r.dim {
-        2 => by_boundary::<2>(spec, r, progress),
-        3 => by_boundary::<3>(spec, r, progress),
-        d => Err(EdmdError::invalid("dim", d, "dimension must be 2 or 3")),
-    };
-    let mut outcome = result.unwrap_or_else(|e| Outcome::failed(e.to_string()));
-    outcome.wall_s = start.elapsed().as_secs_f64();
-    if spec.classify.is_some() && outcome.classification.is_none() {
-        outcome.classification = Some(Classification {
-            class: Class::Failed,
-            shear_onset: f64::NAN,
-            cluster_onset: f64::NAN,
-            haff_deviation: Vec::new(),
-            note: String::new(),
-        });
-    }
-    outcome
-}
-
-fn by_boundary<const D: usize>(
-    spec: &Spec,
-    r: &Replica,
-    progress: &(dyn Fn(u64) + Sync),
-) -> Result<Outcome, EdmdError> {
-    match r.boundary {
-        BoundaryKind::Periodic => by_rule::<D, Periodic>(spec, r, progress),
-        BoundaryKind::Walls => by_rule::<D, Walls>(spec, r, progress),
-        BoundaryKind::Channel => by_rule::<D, Channel>(spec, r, progress),
-    }
-}
-
-fn by_rule<const D: usize, B: Boundary>(
-    spec: &Spec,
-    r: &Replica,
-    progress: &(dyn Fn(u64) + Sync),
-) -> Result<Outcome, EdmdError> {
-    match spec.rule {
-        RuleSpec::Constant => {
-            by_remedy::<D, B, _>(spec, r, ConstantRestitution::new(r.eps)?, progress)
-        }
-        RuleSpec::Threshold { delta, eps_low } => by_remedy::<D, B, _>(
-            spec,
-            r,
-            ThresholdRestitution::new(r.eps, eps_low, delta)?,
-            progress,
-        ),
-        RuleSpec::Thesis { v0 } => {
-            by_remedy::<D, B, _>(spec, r, ThesisRestitution::new(r.eps, v0)?, progress)
-        }
-        RuleSpec::Viscoelastic { speed } => {
-            by_remedy::<D, B, _>(spec, r, viscoelastic(r.eps, speed)?, progress)
-        }
-    }
-}
-
-fn by_remedy<const D: usize, B: Boundary, R: CollisionRule<State = ()>>(
-    spec: &Spec,
-    r: &Replica,
-    rule: R,
-    progress: &(dyn Fn(u64) + Sync),
-) -> Result<Outcome, EdmdError> {
-    match r.remedy {
-        Remedy::None => simulate::<D, B, R>(spec, r, rule, progress),
-        Remedy::Tc { tc } => simulate::<D, B, _>(spec, r, TcModel::new(rule, tc)?, progress),
-        Remedy::Rotation { theta_max_deg } => simulate::<D, B, _>(
-            spec,
-            r,
-            RandomRotation::new(rule, theta_max_deg.to_radians())?,
-            progress,
-        ),
-    }
-}
-
-/// What linear theory says about a replica's box (critical sizes halved when any axis has walls).
-pub fn theory(spec: &Spec, r: &Replica) -> Theory {
-    let periodic = r.boundary == BoundaryKind::Periodic;
-    let (lp, lq) = critical_box_sides(r.dim, r.eps, r.phi(), periodic);
-    let grid = spec
-        .classify
-        .as_ref()
-        .map(|c| c.grid_for(r.n, r.dim))
-        .unwrap_or(1);
-    Theory {
-        haff_rate: matches!(spec.rule, RuleSpec::Constant).then(|| haff_rate(r.dim, r.eps)),
-        l_over_l_perp: r.side() / lp,
-        l_over_l_par: r.side() / lq,
-        per_cell: r.n as f64 / (grid as f64).powi(r.dim as i32),
-    }
-}
+use super::{theory, Outcome, Series, Snapshot, Status};
+use crate::classify::{classify, settled, Class, Classification};
+use crate::spec::{Replica, RuleSpec, Spec, VelocityKind};
 
 /// Events between progress reports and checks for ceased collisions.
 const CHUNK_EVENTS: u64 = 500_000;
@@ -224,7 +25,7 @@ fn flat<const D: usize>(v: &[Vector<D>]) -> Vec<f64> {
     v.iter().flat_map(|x| x.iter().copied()).collect()
 }
 
-fn simulate<const D: usize, B: Boundary, R: CollisionRule>(
+pub(super) fn simulate<const D: usize, B: Boundary, R: CollisionRule>(
     spec: &Spec,
     r: &Replica,
     rule: R,
