@@ -7,8 +7,8 @@ use edmd_core::{
     ConstantRestitution, EdmdError, ThesisRestitution, ThresholdRestitution, Viscoelastic,
 };
 
-use crate::domain::{self, Domain};
 use super::{close_packing, Grid, Remedy, Replica, RuleSpec, Spec};
+use crate::domain::{self, Domain};
 use crate::SweepError;
 
 /// `field = value: reason` unless `value` lies in `domain`.
