@@ -22,14 +22,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             return false;
         }
         let factor = (self.t_ref / sim_t).sqrt();
-        self.rebase_clock();
-        for p in &mut self.particles {
-            p.vel *= factor;
-        }
-        self.scale_spins(factor);
-        for m in &mut self.meta {
-            m.counter = m.counter.wrapping_add(1);
-        }
+        self.scale_motion(factor);
         self.epoch /= factor;
         self.ln_scale += factor.ln();
         self.inv_scale = (-self.ln_scale).exp();
@@ -63,13 +56,12 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         for q in &mut self.particles {
             q.vel -= drift;
         }
-        for m in &mut self.meta {
-            m.counter = m.counter.wrapping_add(1);
-        }
+        self.invalidate_events();
         true
     }
 
-    pub(super) fn scale_spins(&mut self, factor: f64) {
+    /// Scales every spin by `factor` (rough rules only).
+    fn scale_spins(&mut self, factor: f64) {
         if R::ROUGH {
             for st in &mut self.rule_state {
                 let w = R::spin(st);
@@ -80,14 +72,25 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
 
     /// Scales every velocity by `factor` and predicts all events again (e.g. to set a temperature).
     pub fn scale_velocities(&mut self, factor: f64) {
+        self.scale_motion(factor);
+        self.restart_events();
+    }
+
+    /// Rebases the clock, scales every velocity and spin by `factor` and marks every pending event
+    /// stale (the caller predicts them again).
+    fn scale_motion(&mut self, factor: f64) {
         self.rebase_clock();
         for p in &mut self.particles {
             p.vel *= factor;
         }
         self.scale_spins(factor);
+        self.invalidate_events();
+    }
+
+    /// Marks every particle's pending events stale: each particle counts one more collision.
+    fn invalidate_events(&mut self) {
         for m in &mut self.meta {
             m.counter = m.counter.wrapping_add(1);
         }
-        self.restart_events();
     }
 }
