@@ -1,5 +1,6 @@
 //! `edmd`: run sweeps of granular-gas simulations and summarise them.
 
+use std::io::Read;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -7,10 +8,12 @@ use anyhow::{bail, Context};
 use clap::{Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
+use edmd_sweep::budget::{check_memory, replica_bytes, snapshots_per_replica, Bytes, MemoryLimit};
+use edmd_sweep::lock::LockMode;
 use edmd_sweep::output::OutDir;
-use edmd_sweep::record::Status;
-use edmd_sweep::run::{run_sweep, Progress, RunOptions};
-use edmd_sweep::spec::{Shard, Spec};
+use edmd_sweep::record::{Record, Status};
+use edmd_sweep::run::{available_threads, run_sweep, Progress, RunOptions};
+use edmd_sweep::spec::{Shard, Spec, MAX_SPEC_BYTES};
 use edmd_sweep::summary::{phase_table, render, Format};
 use edmd_sweep::{merge, SweepError, QUICK_SPEC};
 
@@ -26,9 +29,19 @@ Examples:
   edmd validate-spec SPEC                    check a spec without running it
   edmd spec-schema                           the JSON Schema of specs (for editors and validators)
 
-Rerunning the same `edmd run` resumes a killed sweep: finished replicas are kept, partial ones redone.
-Exit status: 0 success; 1 bad input or I/O error; 2 the sweep ran but a replica failed, collapsed or
-is missing. Spec format: docs/sweep-spec.md.";
+Rerunning the same `edmd run` resumes a killed sweep: finished replicas are kept, partial ones redone,
+corrupt ones moved aside as rNNNNN.h5.corrupt and redone. One run (or one shard) at a time holds OUT.
+
+Exit status:
+  0   success (status: every replica done)
+  1   bad input (spec, arguments' values, memory estimate) or an I/O error; nothing was run
+  2   the sweep ran but a replica failed or collapsed; status/merge: replicas failed, collapsed,
+      missing or corrupt
+  64  usage error (unknown option, missing argument)
+Spec format: docs/sweep-spec.md.";
+
+/// Exit status of a command-line usage error (BSD's EX_USAGE), distinct from 2 ("replicas failed").
+const EXIT_USAGE: u8 = 64;
 
 /// Event-driven molecular dynamics of granular gases: parameter sweeps over (eps, phi or L, N, seed).
 #[derive(Debug, Parser)]
@@ -47,9 +60,13 @@ enum Command {
         /// Output directory [default: edmd-out/<spec name>].
         #[arg(short, long)]
         out: Option<PathBuf>,
-        /// Worker threads [default: every core].
+        /// Worker threads [default: every core; at most the threads this process may use].
         #[arg(short = 'j', long)]
         threads: Option<usize>,
+        /// Memory the run may use, e.g. 8G or 512M [default: the machine's or the cgroup's]; the run
+        /// is refused up front when its estimate is above it.
+        #[arg(long, value_name = "SIZE", value_parser = parse_size)]
+        max_memory: Option<u64>,
         /// Run only share K of N (0-based): replicas whose index is K modulo N.
         #[arg(long, value_name = "K/N")]
         shard: Option<String>,
@@ -85,10 +102,14 @@ enum Command {
         #[arg(long, value_enum, default_value_t = FormatArg::Table)]
         format: FormatArg,
     },
-    /// Check a sweep spec and print the size of its grid, without running anything.
+    /// Check a sweep spec and print the size of its grid and its memory estimate, without running
+    /// anything.
     ValidateSpec {
         /// Sweep spec (JSON).
         spec: PathBuf,
+        /// Memory one replica may use, e.g. 8G [default: the machine's or the cgroup's].
+        #[arg(long, value_name = "SIZE", value_parser = parse_size)]
+        max_memory: Option<u64>,
     },
     /// Print the JSON Schema of sweep specs (the one in docs/sweep-spec.schema.json).
     SpecSchema,
@@ -135,6 +156,31 @@ impl Bar {
     }
 }
 
+/// Parses `8G`, `512M`, `64k` or a number of bytes (binary units).
+fn parse_size(s: &str) -> Result<u64, String> {
+    let t = s.trim();
+    let (num, mult) = match t.char_indices().last() {
+        Some((i, c)) if c.is_ascii_alphabetic() => {
+            let m = match c.to_ascii_uppercase() {
+                'K' => 1u64 << 10,
+                'M' => 1 << 20,
+                'G' => 1 << 30,
+                'T' => 1 << 40,
+                _ => return Err(format!("unknown unit {c:?} (use K, M, G or T)")),
+            };
+            (&t[..i], m)
+        }
+        _ => (t, 1),
+    };
+    let v: f64 = num
+        .parse()
+        .map_err(|_| format!("expected a size such as 8G or 512M, got {s:?}"))?;
+    if !(v > 0.0 && v * (mult as f64) < 1.8e19) {
+        return Err(format!("size must be positive and below 16 EiB, got {s:?}"));
+    }
+    Ok((v * mult as f64) as u64)
+}
+
 impl Progress for Bar {
     fn start(&self, replicas: usize, collisions: u64) {
         self.0.set_length(collisions.max(1));
@@ -149,13 +195,20 @@ impl Progress for Bar {
     fn finish(&self) {
         self.0.finish_and_clear();
     }
+    fn notice(&self, message: &str) {
+        self.0.suspend(|| eprintln!("{message}"));
+    }
 }
 
 fn load_spec(path: Option<&Path>) -> anyhow::Result<Spec> {
     match path {
         None => Ok(Spec::from_json(QUICK_SPEC)?),
         Some(p) => {
-            let text = std::fs::read_to_string(p)
+            // At most MAX_SPEC_BYTES + 1 bytes are read: a wrong path (/dev/zero, a data file) is
+            // refused by size instead of filling memory.
+            let mut text = String::new();
+            std::fs::File::open(p)
+                .and_then(|f| f.take(MAX_SPEC_BYTES as u64 + 1).read_to_string(&mut text))
                 .with_context(|| format!("cannot read spec {}", p.display()))?;
             Spec::from_json(&text).map_err(|e| match e {
                 SweepError::Spec(m) => SweepError::Spec(format!("{}: {m}", p.display())).into(),
@@ -166,7 +219,17 @@ fn load_spec(path: Option<&Path>) -> anyhow::Result<Spec> {
 }
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => {
+            let _ = e.print();
+            return if e.use_stderr() {
+                ExitCode::from(EXIT_USAGE)
+            } else {
+                ExitCode::SUCCESS // --help, --version
+            };
+        }
+    };
     match execute(cli.command) {
         Ok(code) => code,
         Err(e) => {
@@ -182,6 +245,7 @@ fn execute(command: Command) -> anyhow::Result<ExitCode> {
             spec,
             out,
             threads,
+            max_memory,
             shard,
             force,
             quiet,
@@ -189,13 +253,32 @@ fn execute(command: Command) -> anyhow::Result<ExitCode> {
         } => {
             let spec_value = load_spec(spec.as_deref())?;
             let shard = shard.as_deref().map(Shard::parse).transpose()?;
-            if threads == Some(0) {
-                bail!("--threads 0: need at least one thread");
-            }
+            let available = available_threads();
+            let threads = match threads {
+                Some(0) => bail!("--threads 0: need at least one thread"),
+                Some(t) if t > available => {
+                    eprintln!(
+                        "note: --threads {t} is more than the {available} this process may use; using {available}"
+                    );
+                    available
+                }
+                Some(t) => t,
+                None => available,
+            };
+            // The memory estimate is checked before anything is written.
+            let mine: Vec<_> = spec_value
+                .replicas()
+                .into_iter()
+                .filter(|r| shard.is_none_or(|s| s.contains(r.index)))
+                .collect();
+            check_memory(&spec_value, &mine, threads, MemoryLimit::new(max_memory))?;
+            drop(mine);
             let root = out.unwrap_or_else(|| Path::new("edmd-out").join(&spec_value.name));
-            let dir = OutDir::prepare(&root, &spec_value, force)?;
+            let mode = shard.map_or(LockMode::Exclusive, LockMode::Shard);
+            let dir = OutDir::prepare(&root, &spec_value, force, mode)?;
             let opts = RunOptions {
-                threads,
+                threads: Some(threads),
+                max_memory,
                 shard,
                 force,
             };
@@ -244,7 +327,7 @@ fn execute(command: Command) -> anyhow::Result<ExitCode> {
         }
         Command::Status { out } => {
             let (dir, spec) = OutDir::open(&out)?;
-            let records = dir.records(&spec)?;
+            let records = dir.records(&spec);
             let partial = spec
                 .replicas()
                 .iter()
@@ -252,29 +335,39 @@ fn execute(command: Command) -> anyhow::Result<ExitCode> {
                 .count();
             let count = |s: Status| records.iter().filter(|r| r.status == s).count();
             println!(
-                "{}: {} replicas: {} done, {} collapsed, {} failed, {} in flight or partial, {} pending",
+                "{}: {} replicas: {} done, {} collapsed, {} failed, {} corrupt, {} in flight or partial, {} pending",
                 spec.name,
                 records.len(),
                 count(Status::Done),
                 count(Status::Collapsed),
                 count(Status::Failed),
+                count(Status::Corrupt),
                 partial,
-                count(Status::Missing) - partial
+                count(Status::Missing).saturating_sub(partial)
             );
-            for r in records
-                .iter()
-                .filter(|r| matches!(r.status, Status::Failed | Status::Collapsed))
-            {
+            for r in records.iter().filter(|r| {
+                matches!(
+                    r.status,
+                    Status::Failed | Status::Collapsed | Status::Corrupt
+                )
+            }) {
                 println!("  {} r{:05}: {}", r.status, r.index, r.message);
             }
-            Ok(ExitCode::SUCCESS)
+            if count(Status::Corrupt) > 0 {
+                println!("  (rerun `edmd run` with the same spec and -o: corrupt files are moved aside and redone)");
+            }
+            Ok(exit_for(&records))
         }
         Command::Merge { inputs, out } => {
             let target = out.unwrap_or_else(|| inputs[0].clone());
-            let records = merge::merge(&inputs, &target)?;
+            let report = merge::merge(&inputs, &target)?;
+            for (path, why) in &report.skipped {
+                eprintln!("corrupt: {} ({why}): not copied", path.display());
+            }
+            let records = report.records;
             let missing: Vec<usize> = records
                 .iter()
-                .filter(|r| r.status == Status::Missing)
+                .filter(|r| !r.status.has_file())
                 .map(|r| r.index)
                 .collect();
             eprintln!(
@@ -296,7 +389,13 @@ fn execute(command: Command) -> anyhow::Result<ExitCode> {
         }
         Command::Summarize { out, format } => {
             let (dir, spec) = OutDir::open(&out)?;
-            let records = dir.records(&spec)?;
+            let records = dir.records(&spec);
+            for r in records.iter().filter(|r| r.status == Status::Corrupt) {
+                eprintln!(
+                    "corrupt: replicas/{} ({}); counted as missing (rerun `edmd run` to redo it)",
+                    r.file, r.message
+                );
+            }
             print!("{}", render(&phase_table(&spec, &records), format.into()));
             Ok(ExitCode::SUCCESS)
         }
@@ -304,18 +403,49 @@ fn execute(command: Command) -> anyhow::Result<ExitCode> {
             print!("{}", Spec::json_schema_text());
             Ok(ExitCode::SUCCESS)
         }
-        Command::ValidateSpec { spec } => {
+        Command::ValidateSpec { spec, max_memory } => {
             let s = load_spec(Some(&spec))?;
             let replicas = s.replicas();
             let collisions: f64 = replicas.iter().map(|r| r.n as f64 * s.stop.tau_max).sum();
+            // One replica must fit; how many fit at once is checked by `run` with its --threads.
+            let estimate = check_memory(&s, &replicas, 1, MemoryLimit::new(max_memory))?;
+            let all_cores = replicas.iter().map(|r| replica_bytes(&s, r).total()).fold(
+                Vec::new(),
+                |mut v, b| {
+                    v.push(b);
+                    v
+                },
+            );
+            let mut sorted = all_cores;
+            sorted.sort_by(|a, b| b.total_cmp(a));
+            let at_once: f64 = sorted.iter().take(available_threads()).sum();
             println!(
-                "{}: valid; {} replicas, at most {:.3e} pair collisions (tau_max = {})",
+                "{}: valid; {} replicas, at most {:.3e} pair collisions (tau_max = {}); per replica at most {:.0} samples and {} snapshots; memory: about {} for the largest replica{}, {} for {} at once",
                 spec.display(),
                 replicas.len(),
                 collisions,
-                s.stop.tau_max
+                s.stop.tau_max,
+                s.samples_per_replica(),
+                snapshots_per_replica(&s),
+                Bytes(estimate.run_bytes),
+                estimate
+                    .largest
+                    .as_ref()
+                    .map(|(r, _)| format!(" ({})", r.file_name()))
+                    .unwrap_or_default(),
+                Bytes(at_once),
+                available_threads().min(replicas.len()),
             );
             Ok(ExitCode::SUCCESS)
         }
+    }
+}
+
+/// 0 when every replica is done, else 2 (failed, collapsed, missing or corrupt replicas).
+fn exit_for(records: &[Record]) -> ExitCode {
+    if records.iter().all(|r| r.status == Status::Done) {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(2)
     }
 }

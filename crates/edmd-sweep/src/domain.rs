@@ -144,8 +144,15 @@ fn number(x: f64) -> Value {
 pub const RESTITUTION: Domain = Domain::closed(0.0, 1.0, "restitution must lie in [0, 1]");
 /// Packing fractions: the schema bound is the densest (2D) packing; `check` uses the one of D.
 pub const PHI: Domain = Domain::open(0.0, 0.9069, "packing fraction must lie below close packing");
-/// Box sides.
-pub const BOX: Domain = Domain::positive("box side must be positive");
+/// Box sides: positive, and at most 10^6 diameters (N = 10^7 disks at φ = 0.3 fill a box of 5100;
+/// far larger sides leave double precision too few digits for a diameter).
+pub const BOX: Domain = Domain::new(
+    0.0,
+    true,
+    1e6,
+    false,
+    "box side must lie in (0, 1e6] particle diameters",
+);
 /// Particle numbers.
 pub const N: Domain = Domain::integers(
     2.0,
@@ -185,6 +192,9 @@ pub const EVERY: Domain = Domain::positive("must be positive");
 pub const LOG_FROM: Domain = Domain::positive("must be positive");
 /// Snapshot times.
 pub const SNAPSHOT_AT: Domain = Domain::non_negative("snapshot times must be ≥ 0");
+/// Samples per decade of the logarithmic grid (the sample count per replica is checked too).
+pub const PER_DECADE: Domain =
+    Domain::integers(0.0, 10000.0, "samples per decade must lie in 0..=10000");
 /// The deflate level.
 pub const COMPRESSION: Domain = Domain::integers(0.0, 9.0, "deflate level must lie in 0..=9");
 
@@ -220,6 +230,7 @@ schema_fns! {
     log_from_one => LOG_FROM.one,
     snapshot_list => SNAPSHOT_AT.list,
     compression_one => COMPRESSION.one,
+    per_decade_one => PER_DECADE.one,
 }
 
 impl Domain {

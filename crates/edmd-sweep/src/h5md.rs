@@ -168,7 +168,9 @@ impl Writer {
     }
 }
 
-/// Writes a replica's file to `path.part`, then renames it to `path`.
+/// Writes a replica's file to `path.part`; once it is written, flushed, closed, synced to disk and
+/// read back whole ([`check_file`]), renames it to `path` and syncs the directory. On any error the
+/// `.part` file is removed and nothing appears under the final name.
 pub fn write_replica(
     path: &Path,
     spec: &Spec,
@@ -176,16 +178,93 @@ pub fn write_replica(
     out: &Outcome,
 ) -> Result<(), SweepError> {
     let part = path.with_extension("h5.part");
-    let result = write_file(&part, spec, r, out);
-    if let Err(e) = result {
+    let result = finish_replica(path, &part, spec, r, out);
+    if result.is_err() {
         let _ = std::fs::remove_file(&part);
-        return Err(SweepError::hdf5(&part, e));
     }
-    std::fs::rename(&part, path).map_err(|e| SweepError::io("cannot rename", &part, e))
+    result
 }
 
-fn write_file(part: &Path, spec: &Spec, r: &Replica, out: &Outcome) -> hdf5::Result<()> {
-    let file = hdf5::File::create(part)?;
+fn finish_replica(
+    path: &Path,
+    part: &Path,
+    spec: &Spec,
+    r: &Replica,
+    out: &Outcome,
+) -> Result<(), SweepError> {
+    let file = hdf5::File::create(part).map_err(|e| SweepError::hdf5(part, e))?;
+    // Every group and dataset is closed when write_file returns, so that flush and close below
+    // report the errors of the last writes (a close with objects still open is deferred by HDF5,
+    // and its errors are lost).
+    write_file(&file, spec, r, out)
+        .and_then(|_| file.flush())
+        .and_then(|_| file.close())
+        .map_err(|e| SweepError::hdf5(part, e))?;
+    std::fs::File::open(part)
+        .and_then(|f| f.sync_all())
+        .map_err(|e| SweepError::io("cannot sync", part, e))?;
+    check_file(part, &spec.hash(), r.index).map_err(|reason| {
+        SweepError::Output(format!(
+            "{}: written but unreadable: {reason}",
+            part.display()
+        ))
+    })?;
+    std::fs::rename(part, path).map_err(|e| SweepError::io("cannot rename", part, e))?;
+    if let Some(dir) = path.parent() {
+        std::fs::File::open(dir)
+            .and_then(|d| d.sync_all())
+            .map_err(|e| SweepError::io("cannot sync", dir, e))?;
+    }
+    Ok(())
+}
+
+/// Checks that a replica file is whole: it opens as HDF5, holds this schema and spec hash and the
+/// replica's index, and (unless the replica failed) its particle and observable datasets, whose last
+/// temperature value reads back. Returns the record, or why the file is unusable.
+pub fn check_file(path: &Path, spec_hash: &str, index: usize) -> Result<Record, String> {
+    let rec = read_record(path, spec_hash).map_err(|e| e.chain())?;
+    if rec.index != index {
+        return Err(format!("holds replica {} instead of {index}", rec.index));
+    }
+    if rec.status == Status::Failed {
+        return Ok(rec);
+    }
+    let datasets = (|| -> hdf5::Result<Option<String>> {
+        let file = hdf5::File::open(path)?;
+        for name in [
+            "particles/gas/box/edges",
+            "particles/gas/mass",
+            "particles/gas/radius",
+            "observables/tau/value",
+            "observables/temperature/value",
+        ] {
+            if !file.link_exists(name) {
+                return Ok(Some(format!("dataset /{name} is missing")));
+            }
+        }
+        let tau = file.dataset("observables/tau/value")?;
+        let temperature = file.dataset("observables/temperature/value")?;
+        let k = temperature.size();
+        if tau.size() != k || k == 0 {
+            return Ok(Some(format!(
+                "observables/temperature has {k} values, tau {}",
+                tau.size()
+            )));
+        }
+        let last: Vec<f64> = temperature.read_slice_1d(k - 1..k)?.to_vec();
+        if last.len() != 1 {
+            return Ok(Some("the last temperature does not read back".into()));
+        }
+        Ok(None)
+    })();
+    match datasets {
+        Ok(None) => Ok(rec),
+        Ok(Some(reason)) => Err(reason),
+        Err(e) => Err(format!("{e}")),
+    }
+}
+
+fn write_file(file: &hdf5::File, spec: &Spec, r: &Replica, out: &Outcome) -> hdf5::Result<()> {
     let w = Writer {
         compression: spec.output.compression,
     };
@@ -269,7 +348,7 @@ fn write_file(part: &Path, spec: &Spec, r: &Replica, out: &Outcome) -> hdf5::Res
     json_attrs(&spec_group, "", &tree)?;
 
     if out.status == Status::Failed {
-        return file.close();
+        return Ok(());
     }
 
     // Particles.
@@ -333,7 +412,7 @@ fn write_file(part: &Path, spec: &Spec, r: &Replica, out: &Outcome) -> hdf5::Res
             }
         }
     }
-    file.close()
+    Ok(())
 }
 
 fn read_str(g: &Group, name: &str) -> hdf5::Result<String> {

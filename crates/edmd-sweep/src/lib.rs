@@ -9,10 +9,12 @@
 //! through [`run::Progress`]).
 #![warn(missing_docs)]
 
+pub mod budget;
 pub mod classify;
 pub mod domain;
 mod error;
 pub mod h5md;
+pub mod lock;
 pub mod merge;
 pub mod output;
 pub mod record;

@@ -4,13 +4,24 @@
 use std::fs;
 use std::path::{Path, PathBuf};
 
-use crate::output::OutDir;
+use crate::lock::LockMode;
+use crate::output::{OutDir, ReplicaState};
 use crate::record::Record;
 use crate::SweepError;
 
-/// Merges the sweep outputs `inputs` into `target` (which may be one of them) and writes the index.
-/// Every input must hold the same spec. Returns the index records (missing replicas included).
-pub fn merge(inputs: &[PathBuf], target: &Path) -> Result<Vec<Record>, SweepError> {
+/// What a merge did.
+#[derive(Debug, Clone)]
+pub struct MergeReport {
+    /// The index records of the target (missing and corrupt replicas included).
+    pub records: Vec<Record>,
+    /// Input files that could not be used and were not copied: (path, why).
+    pub skipped: Vec<(PathBuf, String)>,
+}
+
+/// Merges the sweep outputs `inputs` into `target` (which may be one of them) under the target's
+/// exclusive lock, and writes the index (missing replicas listed as such). Every input must hold
+/// the same spec; a corrupt input file is skipped (and reported), never copied.
+pub fn merge(inputs: &[PathBuf], target: &Path) -> Result<MergeReport, SweepError> {
     let mut opened = Vec::new();
     for dir in inputs {
         opened.push(OutDir::open(dir)?);
@@ -29,7 +40,9 @@ pub fn merge(inputs: &[PathBuf], target: &Path) -> Result<Vec<Record>, SweepErro
             )));
         }
     }
-    let out = OutDir::prepare(target, &spec, false)?;
+    let out = OutDir::prepare(target, &spec, false, LockMode::Exclusive)?;
+    let hash = spec.hash();
+    let mut skipped = Vec::new();
     let same = |a: &Path| fs::canonicalize(a).ok() == fs::canonicalize(out.root()).ok();
     for (dir, _) in &opened {
         if same(dir.root()) {
@@ -37,7 +50,11 @@ pub fn merge(inputs: &[PathBuf], target: &Path) -> Result<Vec<Record>, SweepErro
         }
         for r in spec.replicas() {
             let src = dir.replica_path(&r);
-            if !src.is_file() || out.is_done(&r) {
+            if !src.exists() || out.replica_path(&r).exists() {
+                continue;
+            }
+            if let ReplicaState::Corrupt(why) = dir.state(&r, &hash) {
+                skipped.push((src, why));
                 continue;
             }
             let part = out.part_path(&r);
@@ -49,5 +66,8 @@ pub fn merge(inputs: &[PathBuf], target: &Path) -> Result<Vec<Record>, SweepErro
                 })?;
         }
     }
-    out.write_index(&spec)
+    // The index is written even with replicas missing: it lists them, and a later merge rewrites it.
+    let records = out.records(&spec);
+    out.write_index(&spec, &records)?;
+    Ok(MergeReport { records, skipped })
 }

@@ -7,14 +7,17 @@
 //! OUT/summary.csv        the same table as CSV
 //! OUT/summary.json       the same table as JSON
 //! OUT/phase.json         the phase table (one row per grid point, with theory's L/L⊥, L/L∥)
+//! OUT/.lock              the advisory lock of runs and merges ([`crate::lock`])
 //! ```
 
 use std::fs;
 use std::io::Write;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
-use crate::h5md::{attr_i64, attr_str, read_record, SCHEMA_VERSION};
-use crate::record::Record;
+use crate::h5md::{attr_i64, attr_str, check_file, SCHEMA_VERSION};
+use crate::lock::{lock, LockMode, OutLock};
+use crate::record::{Record, Status};
 use crate::spec::{Replica, Spec};
 use crate::summary::{phase_table, render, Format};
 use crate::SweepError;
@@ -23,6 +26,19 @@ use crate::SweepError;
 #[derive(Debug, Clone)]
 pub struct OutDir {
     root: PathBuf,
+    /// Held from [`OutDir::prepare`] until the last clone is dropped.
+    _lock: Option<Arc<OutLock>>,
+}
+
+/// What the final file of a replica holds.
+#[derive(Debug, Clone)]
+pub enum ReplicaState {
+    /// No file under the final name.
+    Missing,
+    /// A whole file, and its record.
+    Finished(Box<Record>),
+    /// A file that cannot be used, and why (not HDF5, truncated, another schema or spec, …).
+    Corrupt(String),
 }
 
 /// Writes `bytes` to `path` through a temporary file in the same directory and a rename, so that a
@@ -39,10 +55,15 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), SweepError> {
 }
 
 /// A temporary name beside `path`, unique to this process.
-fn tmp_path(path: &Path) -> PathBuf {
+pub(crate) fn tmp_path(path: &Path) -> PathBuf {
     let mut name = path.file_name().unwrap_or_default().to_os_string();
     name.push(format!(".tmp{}", std::process::id()));
     path.with_file_name(name)
+}
+
+/// Whether `root` holds an edmd sweep's spec.
+fn out_spec_exists(root: &Path) -> bool {
+    root.join("spec.json").exists()
 }
 
 /// Whether `root` holds files that no edmd run (or a shard starting at the same moment, or a Slurm
@@ -56,6 +77,7 @@ fn has_foreign_files(root: &Path) -> Result<bool, SweepError> {
             "summary.",
             "phase.json",
             "report",
+            ".lock",
         ]
         .iter()
         .any(|p| name.starts_with(p))
@@ -71,20 +93,42 @@ fn has_foreign_files(root: &Path) -> Result<bool, SweepError> {
 }
 
 impl OutDir {
-    /// Opens `root` for running `spec`: creates it if needed, refuses an output of another spec
-    /// unless `force` (which then deletes the old sweep's files), and records the spec.
-    pub fn prepare(root: &Path, spec: &Spec, force: bool) -> Result<OutDir, SweepError> {
+    /// Opens `root` for running `spec`: creates it if needed, takes its lock in `mode` (refusing when
+    /// another run holds it, before anything is read or written), refuses an output of another spec
+    /// unless `force` (which then deletes the old sweep's files), removes the temporary files of
+    /// killed runs (when alone in the directory), and records the spec.
+    pub fn prepare(
+        root: &Path,
+        spec: &Spec,
+        force: bool,
+        mode: LockMode,
+    ) -> Result<OutDir, SweepError> {
+        if root.exists() && !root.is_dir() {
+            return Err(SweepError::Output(format!(
+                "output {} exists and is not a directory",
+                root.display()
+            )));
+        }
+        let existed = root.exists();
+        if !existed {
+            fs::create_dir_all(root)
+                .map_err(|e| SweepError::io("cannot create output directory", root, e))?;
+        }
+        // A new directory holds no foreign files; an existing one is checked before the lock file
+        // is created in it.
+        if existed && !force && !out_spec_exists(root) && has_foreign_files(root)? {
+            return Err(SweepError::Output(format!(
+                "output {} is not empty and holds no edmd sweep; choose a new or empty directory, or pass --force",
+                root.display()
+            )));
+        }
+        let held = lock(root, mode)?;
         let out = OutDir {
             root: root.to_path_buf(),
+            _lock: Some(Arc::new(held)),
         };
         let spec_path = out.spec_path();
-        if root.exists() {
-            if !root.is_dir() {
-                return Err(SweepError::Output(format!(
-                    "output {} exists and is not a directory",
-                    root.display()
-                )));
-            }
+        if existed {
             if spec_path.exists() {
                 let old = fs::read_to_string(&spec_path)
                     .map_err(|e| SweepError::io("cannot read", &spec_path, e))?;
@@ -98,15 +142,10 @@ impl OutDir {
                     }
                     out.remove_sweep_files()?;
                 }
-            } else if !force && has_foreign_files(root)? {
-                return Err(SweepError::Output(format!(
-                    "output {} is not empty and holds no edmd sweep; choose a new or empty directory, or pass --force",
-                    root.display()
-                )));
             }
-        } else {
-            fs::create_dir_all(root)
-                .map_err(|e| SweepError::io("cannot create output directory", root, e))?;
+            if mode == LockMode::Exclusive {
+                out.remove_stale_tmp_files()?;
+            }
         }
         let replicas = out.replicas_dir();
         fs::create_dir_all(&replicas)
@@ -119,6 +158,7 @@ impl OutDir {
     pub fn open(root: &Path) -> Result<(OutDir, Spec), SweepError> {
         let out = OutDir {
             root: root.to_path_buf(),
+            _lock: None,
         };
         let spec_path = out.spec_path();
         let text = fs::read_to_string(&spec_path).map_err(|e| {
@@ -131,6 +171,23 @@ impl OutDir {
         let spec = Spec::from_json(&text)
             .map_err(|e| SweepError::Output(format!("{}: {e}", spec_path.display())))?;
         Ok((out, spec))
+    }
+
+    /// Removes `NAME.tmpPID` files left by killed runs (only called while holding the lock alone).
+    fn remove_stale_tmp_files(&self) -> Result<(), SweepError> {
+        let entries =
+            fs::read_dir(&self.root).map_err(|e| SweepError::io("cannot read", &self.root, e))?;
+        for entry in entries.flatten() {
+            let name = entry.file_name().to_string_lossy().into_owned();
+            let stale = name
+                .rsplit_once(".tmp")
+                .is_some_and(|(_, pid)| !pid.is_empty() && pid.bytes().all(|b| b.is_ascii_digit()));
+            if stale {
+                let p = entry.path();
+                fs::remove_file(&p).map_err(|e| SweepError::io("cannot remove", &p, e))?;
+            }
+        }
+        Ok(())
     }
 
     fn remove_sweep_files(&self) -> Result<(), SweepError> {
@@ -178,33 +235,65 @@ impl OutDir {
         self.replica_path(r).with_extension("h5.part")
     }
 
-    /// Whether a replica's file is complete.
-    pub fn is_done(&self, r: &Replica) -> bool {
-        self.replica_path(r).is_file()
+    /// Where a corrupt replica file is moved: `rNNNNN.h5.corrupt`, or `.corrupt.K` when taken.
+    pub fn corrupt_path(&self, r: &Replica) -> PathBuf {
+        let base = self.replica_path(r).with_extension("h5.corrupt");
+        let mut p = base.clone();
+        let mut k = 1;
+        while p.exists() {
+            let mut name = base.file_name().unwrap_or_default().to_os_string();
+            name.push(format!(".{k}"));
+            p = base.with_file_name(name);
+            k += 1;
+        }
+        p
     }
 
-    /// Reads the records of every replica of `spec` (missing ones included).
-    pub fn records(&self, spec: &Spec) -> Result<Vec<Record>, SweepError> {
+    /// What the final file of replica `r` holds (`hash`: the spec's hash).
+    pub fn state(&self, r: &Replica, hash: &str) -> ReplicaState {
+        let p = self.replica_path(r);
+        if !p.exists() {
+            return ReplicaState::Missing;
+        }
+        match check_file(&p, hash, r.index) {
+            Ok(rec) => ReplicaState::Finished(Box::new(rec)),
+            Err(reason) => ReplicaState::Corrupt(reason),
+        }
+    }
+
+    /// Moves the corrupt final file of `r` aside (never deleting it); returns where it went.
+    pub fn set_aside(&self, r: &Replica) -> Result<PathBuf, SweepError> {
+        let from = self.replica_path(r);
+        let to = self.corrupt_path(r);
+        fs::rename(&from, &to).map_err(|e| SweepError::io("cannot move aside", &from, e))?;
+        Ok(to)
+    }
+
+    /// The records of every replica of `spec`: read from whole files, [`Status::Missing`] without
+    /// one, [`Status::Corrupt`] (with the reason as the message) for a file that cannot be used.
+    pub fn records(&self, spec: &Spec) -> Vec<Record> {
         let hash = spec.hash();
         spec.replicas()
             .iter()
-            .map(|r| {
-                let p = self.replica_path(r);
-                if p.is_file() {
-                    read_record(&p, &hash)
-                } else {
-                    Ok(Record::missing(r))
-                }
+            .map(|r| match self.state(r, &hash) {
+                ReplicaState::Finished(rec) => *rec,
+                ReplicaState::Missing => Record::missing(r),
+                ReplicaState::Corrupt(reason) => Record {
+                    status: Status::Corrupt,
+                    message: reason,
+                    file: r.file_name(),
+                    ..Record::missing(r)
+                },
             })
             .collect()
     }
 
-    /// Builds `sweep.h5`, `summary.csv` and `summary.json` from the replica files on disk.
-    pub fn write_index(&self, spec: &Spec) -> Result<Vec<Record>, SweepError> {
-        let records = self.records(spec)?;
+    /// Builds `sweep.h5`, `summary.csv`, `summary.json` and `phase.json` from `records` (those of
+    /// [`OutDir::records`]).
+    pub fn write_index(&self, spec: &Spec, records: &[Record]) -> Result<(), SweepError> {
         let index = self.root.join("sweep.h5");
         let tmp = tmp_path(&index);
-        let written = write_index_h5(&tmp, spec, &records)
+        let written = write_index_h5(&tmp, spec, records)
             .map_err(|e| SweepError::hdf5(&tmp, e))
             .and_then(|_| {
                 fs::rename(&tmp, &index).map_err(|e| SweepError::io("cannot write", &index, e))
@@ -215,14 +304,14 @@ impl OutDir {
         }
         write_atomic(
             &self.root.join("summary.csv"),
-            Record::to_csv(&records).as_bytes(),
+            Record::to_csv(records).as_bytes(),
         )?;
-        let json = serde_json::to_string_pretty(&records).expect("records serialise");
+        let json = serde_json::to_string_pretty(records).expect("records serialise");
         write_atomic(&self.root.join("summary.json"), json.as_bytes())?;
-        let table = phase_table(spec, &records);
+        let table = phase_table(spec, records);
         let phase = render(&table, Format::Json);
         write_atomic(&self.root.join("phase.json"), phase.as_bytes())?;
-        Ok(records)
+        Ok(())
     }
 }
 
@@ -234,7 +323,7 @@ fn write_index_h5(path: &Path, spec: &Spec, records: &[Record]) -> hdf5::Result<
     attr_str(&file, "spec_hash", &spec.hash())?;
     Record::write_columns(&file.create_group("replicas")?, records)?;
     let links = file.create_group("files")?;
-    for r in records.iter().filter(|r| !r.file.is_empty()) {
+    for r in records.iter().filter(|r| r.status.has_file()) {
         let stem = r.file.trim_end_matches(".h5");
         links.link_external(&format!("replicas/{}", r.file), "/", stem)?;
     }

@@ -24,15 +24,19 @@ pub enum Status {
     Failed,
     /// No replica file yet (index records only; never written into a replica file).
     Missing,
+    /// A file under the final name that cannot be used (index records only: `edmd run` moves it
+    /// aside as `.corrupt` and redoes the replica).
+    Corrupt,
 }
 
 impl Status {
     /// Every status, in the order of the tables.
-    pub const ALL: [Status; 4] = [
+    pub const ALL: [Status; 5] = [
         Status::Done,
         Status::Collapsed,
         Status::Failed,
         Status::Missing,
+        Status::Corrupt,
     ];
 
     /// The name used in files and tables.
@@ -42,7 +46,13 @@ impl Status {
             Status::Collapsed => "collapsed",
             Status::Failed => "failed",
             Status::Missing => "missing",
+            Status::Corrupt => "corrupt",
         }
+    }
+
+    /// True for a replica with a whole file (done, collapsed or failed).
+    pub fn has_file(self) -> bool {
+        matches!(self, Status::Done | Status::Collapsed | Status::Failed)
     }
 
     /// True for a replica that ran and has data to aggregate (done or collapsed).

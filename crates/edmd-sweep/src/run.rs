@@ -8,8 +8,9 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 
-use crate::h5md::{read_record, write_replica};
-use crate::output::OutDir;
+use crate::budget::{check_memory, MemoryLimit};
+use crate::h5md::write_replica;
+use crate::output::{OutDir, ReplicaState};
 use crate::record::{Record, Status};
 use crate::replica;
 use crate::spec::{Replica, Shard, Spec};
@@ -18,8 +19,11 @@ use crate::SweepError;
 /// Options of `edmd run`.
 #[derive(Debug, Clone, Default)]
 pub struct RunOptions {
-    /// Worker threads (default: every core).
+    /// Worker threads (default, and at most: the threads this process may use, see
+    /// [`available_threads`]).
     pub threads: Option<usize>,
+    /// Memory the run may use in bytes (default: the machine's, see [`crate::budget`]).
+    pub max_memory: Option<u64>,
     /// Run only this share of the replicas.
     pub shard: Option<Shard>,
     /// Replace the output of a different spec.
@@ -43,6 +47,16 @@ pub trait Progress: Sync {
     }
     /// The run ended (also after an error).
     fn finish(&self) {}
+    /// Something the user should know that does not stop the run (a corrupt file moved aside).
+    fn notice(&self, message: &str) {
+        let _ = message;
+    }
+}
+
+/// The threads this process may use (its CPU affinity and cgroup quota, as the standard library
+/// reads them; 1 when unknown).
+pub fn available_threads() -> usize {
+    std::thread::available_parallelism().map_or(1, |n| n.get())
 }
 
 /// Reports nothing.
@@ -70,6 +84,10 @@ pub struct RunReport {
     pub records: Option<Vec<Record>>,
     /// Replicas of this shard that failed or collapsed: (replica, status, message).
     pub problems: Vec<(Replica, Status, String)>,
+    /// Corrupt final files found and moved aside (their replicas were run again): (new path, why).
+    pub set_aside: Vec<(std::path::PathBuf, String)>,
+    /// Threads used.
+    pub threads: usize,
 }
 
 /// Rough cost of a replica in pair collisions, for scheduling and the progress bar.
@@ -91,14 +109,37 @@ pub fn run_sweep(
         .into_iter()
         .filter(|r| shard.contains(r.index))
         .collect();
-    // A partial file is a replica that was in flight when a run died: redo it.
+    // A partial file is a replica that was in flight when a run died: redo it. A final file that
+    // cannot be used (a disk that filled, a copy cut short) is moved aside and redone too.
+    let hash = spec.hash();
+    let mut set_aside = Vec::new();
+    let mut todo: Vec<&Replica> = Vec::new();
     for r in &mine {
         let part = out.part_path(r);
         if part.exists() {
             fs::remove_file(&part).map_err(|e| SweepError::io("cannot remove", &part, e))?;
         }
+        match out.state(r, &hash) {
+            ReplicaState::Finished(_) => {}
+            ReplicaState::Missing => todo.push(r),
+            ReplicaState::Corrupt(reason) => {
+                let to = out.set_aside(r)?;
+                progress.notice(&format!(
+                    "corrupt: {} ({reason}): moved to {} and run again",
+                    out.replica_path(r).display(),
+                    to.display()
+                ));
+                set_aside.push((to, reason));
+                todo.push(r);
+            }
+        }
     }
-    let mut todo: Vec<&Replica> = mine.iter().filter(|r| !out.is_done(r)).collect();
+    let threads = opts
+        .threads
+        .unwrap_or_else(available_threads)
+        .clamp(1, available_threads());
+    let owned: Vec<Replica> = todo.iter().map(|&r| r.clone()).collect();
+    check_memory(spec, &owned, threads, MemoryLimit::new(opts.max_memory))?;
     // Longest first: the pool ends with short replicas and balances well.
     todo.sort_by_key(|r| std::cmp::Reverse(estimated_collisions(spec, r)));
     let total: u64 = todo.iter().map(|r| estimated_collisions(spec, r)).sum();
@@ -140,31 +181,34 @@ pub fn run_sweep(
             progress.replica_done(k as usize, n_todo);
         });
     };
-    match opts.threads {
-        Some(t) => rayon::ThreadPoolBuilder::new()
-            .num_threads(t)
-            .build()
-            .map_err(|e| SweepError::Usage(format!("--threads {t}: {e}")))?
-            .install(work),
-        None => work(),
-    }
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .map_err(|e| SweepError::Usage(format!("--threads {threads}: {e}")))?
+        .install(work);
     progress.finish();
     if let Some(e) = first_error.into_inner().expect("lock") {
         return Err(e);
     }
 
-    // Status of this shard's replicas (those run now and those finished before).
-    let hash = spec.hash();
-    let mut problems = Vec::new();
-    for r in &mine {
-        let rec = read_record(&out.replica_path(r), &hash)?;
-        if rec.status != Status::Done {
-            problems.push((r.clone(), rec.status, rec.message));
-        }
-    }
-    let complete = spec.replicas().iter().all(|r| out.is_done(r));
+    // Status of this shard's replicas (those run now and those finished before), read back from
+    // the files; the index is written once every replica of the sweep has a whole file.
+    let records = out.records(spec);
+    let problems = mine
+        .iter()
+        .filter_map(|r| {
+            let rec = &records[r.index];
+            matches!(
+                rec.status,
+                Status::Failed | Status::Collapsed | Status::Corrupt
+            )
+            .then(|| (r.clone(), rec.status, rec.message.clone()))
+        })
+        .collect();
+    let complete = records.iter().all(|r| r.status.has_file());
     let records = if complete {
-        Some(out.write_index(spec)?)
+        out.write_index(spec, &records)?;
+        Some(records)
     } else {
         None
     };
@@ -177,5 +221,7 @@ pub fn run_sweep(
         write_s: write_ns.load(Ordering::Relaxed) as f64 * 1e-9,
         records,
         problems,
+        set_aside,
+        threads,
     })
 }

@@ -97,7 +97,7 @@ pub fn phase_table(spec: &Spec, records: &[Record]) -> Vec<PointRow> {
             let tau_end = median(ran.iter().map(|r| r.tau).collect());
             let ln10 = std::f64::consts::LN_10;
             let log10_t_ratio = median(ran.iter().map(|r| r.ln_temperature_ratio / ln10).collect());
-            let log10_t_haff = if matches!(spec.rule, RuleSpec::Constant) {
+            let log10_t_haff = if matches!(spec.rule, RuleSpec::Constant {}) {
                 -haff_rate(first.dim, first.eps) * tau_end / ln10
             } else {
                 f64::NAN

@@ -157,7 +157,7 @@ fn by_rule<const D: usize, B: Boundary>(
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<Outcome, EdmdError> {
     match spec.rule {
-        RuleSpec::Constant => {
+        RuleSpec::Constant {} => {
             by_remedy::<D, B, _>(spec, r, ConstantRestitution::new(r.eps)?, progress)
         }
         RuleSpec::Threshold { delta, eps_low } => by_remedy::<D, B, _>(
@@ -182,7 +182,7 @@ fn by_remedy<const D: usize, B: Boundary, R: CollisionRule<State = ()>>(
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<Outcome, EdmdError> {
     match r.remedy {
-        Remedy::None => simulate::<D, B, R>(spec, r, rule, progress),
+        Remedy::None {} => simulate::<D, B, R>(spec, r, rule, progress),
         Remedy::Tc { tc } => simulate::<D, B, _>(spec, r, TcModel::new(rule, tc)?, progress),
         Remedy::Rotation { theta_max_deg } => simulate::<D, B, _>(
             spec,
@@ -203,7 +203,7 @@ pub fn theory(spec: &Spec, r: &Replica) -> Theory {
         .map(|c| c.grid_for(r.n, r.dim))
         .unwrap_or(1);
     Theory {
-        haff_rate: matches!(spec.rule, RuleSpec::Constant).then(|| haff_rate(r.dim, r.eps)),
+        haff_rate: matches!(spec.rule, RuleSpec::Constant {}).then(|| haff_rate(r.dim, r.eps)),
         l_over_l_perp: r.side() / lp,
         l_over_l_par: r.side() / lq,
         per_cell: r.n as f64 / (grid as f64).powi(r.dim as i32),

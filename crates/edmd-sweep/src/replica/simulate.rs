@@ -42,7 +42,7 @@ pub(super) fn simulate<const D: usize, B: Boundary, R: CollisionRule>(
     let t0 = sim.temperature();
     let n = r.n as f64;
     let volume = sim.box_len().iter().product::<f64>();
-    let haff = matches!(spec.rule, RuleSpec::Constant);
+    let haff = matches!(spec.rule, RuleSpec::Constant {});
     let grid = spec.classify.as_ref().map(|c| c.grid_for(r.n, D));
     let masses = sim.masses();
     let theory = theory(spec, r);
@@ -246,7 +246,7 @@ pub(super) fn simulate<const D: usize, B: Boundary, R: CollisionRule>(
     let radius = vec![p.radius; r.n];
     let classification = spec.classify.as_ref().map(|c| match status {
         Status::Done => classify(&series.order, &c.thresholds, &theory),
-        Status::Collapsed | Status::Failed | Status::Missing => Classification {
+        Status::Collapsed | Status::Failed | Status::Missing | Status::Corrupt => Classification {
             class: if status == Status::Collapsed {
                 Class::Collapsed
             } else {

@@ -1,13 +1,14 @@
 //! Validation of a spec: every field against its domain, then the checks across fields (N against
 //! φ and the box, φ below close packing, the collision rule's parameters) for every replica.
 
+use std::collections::HashSet;
 use std::fmt;
 
 use edmd_core::{
     ConstantRestitution, EdmdError, ThesisRestitution, ThresholdRestitution, Viscoelastic,
 };
 
-use super::{close_packing, Grid, Remedy, Replica, RuleSpec, Spec};
+use super::{close_packing, Density, Grid, OneOrMany, Remedy, Replica, RuleSpec, Spec};
 use crate::domain::{self, Domain};
 use crate::SweepError;
 
@@ -29,8 +30,13 @@ impl Spec {
         let bad = |field: &str, value: &dyn fmt::Display, reason: &str| {
             Err(SweepError::Spec(format!("{field} = {value}: {reason}")))
         };
-        if self.name.trim().is_empty() {
-            return bad("name", &"\"\"", "must not be empty");
+        if !is_safe_name(&self.name) {
+            return bad(
+                "name",
+                &format!("{:?}", self.name),
+                "must be a plain file name: 1 to 100 letters, digits, '.', '_' or '-', not starting with '.' \
+                 (it names the default output directory edmd-out/<name>)",
+            );
         }
         let grids = self.grid.values();
         if grids.is_empty() {
@@ -42,6 +48,25 @@ impl Spec {
                 super::OneOrMany::Many(_) => format!("grid[{k}]"),
             };
             self.validate_grid(g, &at)?;
+        }
+        let total: f64 = grids.iter().map(grid_size).sum();
+        if total > MAX_REPLICAS as f64 {
+            let at = if grids.len() == 1 { "grid" } else { "grid[*]" };
+            let g = &grids[0];
+            return bad(
+                at,
+                &format!("{total:.3e} replicas"),
+                &format!(
+                    "more than the {MAX_REPLICAS} one sweep may hold (the product of the axes: dim {} × boundary {} × remedy {} × (n, phi or box) {} × eps {} × seeds {}{}); split the sweep",
+                    g.dim.values().len(),
+                    g.boundary.values().len(),
+                    g.remedy.values().len(),
+                    density_pairs(g),
+                    g.eps.values().len(),
+                    g.seeds,
+                    if grids.len() > 1 { " for the first grid" } else { "" }
+                ),
+            );
         }
         self.validate_rest()
     }
@@ -65,6 +90,19 @@ impl Spec {
             if len == 0 {
                 return bad(field, &"[]", "empty axis: the grid has no replicas");
             }
+        }
+        no_duplicates(at, "dim", &g.dim)?;
+        no_duplicates(at, "boundary", &g.boundary)?;
+        no_duplicates(at, "eps", &g.eps)?;
+        no_duplicates(at, "remedy", &g.remedy)?;
+        if let Some(phi) = &g.phi {
+            no_duplicates(at, "phi", phi)?;
+        }
+        if let Some(side) = &g.box_len {
+            no_duplicates(at, "box", side)?;
+        }
+        if let Some(ns) = &g.n {
+            no_duplicates(at, "n", ns)?;
         }
         for d in g.dim.values() {
             if d != 2 && d != 3 {
@@ -134,7 +172,7 @@ impl Spec {
         }
         for r in g.remedy.values() {
             match r {
-                Remedy::None => {}
+                Remedy::None {} => {}
                 Remedy::Tc { tc } => within("remedy.tc", tc, &domain::TC)?,
                 Remedy::Rotation { theta_max_deg } => within(
                     "remedy.theta_max_deg",
@@ -151,7 +189,7 @@ impl Spec {
             Err(SweepError::Spec(format!("{field} = {value}: {reason}")))
         };
         match self.rule {
-            RuleSpec::Constant => {}
+            RuleSpec::Constant {} => {}
             RuleSpec::Threshold { delta, eps_low } => {
                 within("rule.delta", delta, &domain::DELTA)?;
                 within("rule.eps_low", eps_low, &domain::RESTITUTION)?;
@@ -209,17 +247,137 @@ impl Spec {
             self.output.compression as f64,
             &domain::COMPRESSION,
         )?;
-        // Every replica's box must hold a cell list and its start must be reachable.
+        let samples = self.samples_per_replica();
+        if samples > MAX_SAMPLES as f64 {
+            let field = match self.samples.every {
+                Some(e) if self.stop.tau_max / e > 0.5 * samples => format!("samples.every = {e}"),
+                _ => format!("samples.per_decade = {}", self.samples.per_decade),
+            };
+            return Err(SweepError::Spec(format!(
+                "{field}: {samples:.3e} samples per replica (to tau_max = {}), more than the {MAX_SAMPLES} a replica may hold",
+                self.stop.tau_max
+            )));
+        }
+        // Every replica's box must hold a cell list and its start must be reachable; grid points
+        // must not repeat across grids.
+        let mut seen: HashSet<String> = HashSet::new();
+        let mut first_of: Vec<(String, usize)> = Vec::new();
         for r in self.replicas() {
             check_replica(self, &r)?;
+            if r.seed_index == 0 {
+                let key = r.point_key();
+                if !seen.insert(key.clone()) {
+                    let earlier = first_of.iter().find(|(k, _)| *k == key).map(|(_, i)| *i);
+                    return Err(SweepError::Spec(format!(
+                        "{r}: the same grid point as replica {} (grids must not overlap; use \"seeds\" for more samples of one point)",
+                        earlier.unwrap_or(0)
+                    )));
+                }
+                first_of.push((key, r.index));
+            }
         }
         Ok(())
+    }
+}
+
+/// Most replicas one sweep may hold (each is a file; expansion and validation are linear in them).
+pub const MAX_REPLICAS: usize = 1_000_000;
+
+/// Most samples one replica may take (every observable column is a value per sample).
+pub const MAX_SAMPLES: usize = 1_000_000;
+
+/// A name that is safe as one path component: `[A-Za-z0-9_-][A-Za-z0-9._-]{0,99}`.
+fn is_safe_name(name: &str) -> bool {
+    let ok = |c: char| c.is_ascii_alphanumeric() || matches!(c, '.' | '_' | '-');
+    !name.is_empty() && name.len() <= 100 && !name.starts_with('.') && name.chars().all(ok)
+}
+
+/// `{at}.{field} = [list]: v appears twice` for the first value of an axis that repeats.
+fn no_duplicates<T: Clone + PartialEq + serde::Serialize>(
+    at: &str,
+    field: &str,
+    axis: &OneOrMany<T>,
+) -> Result<(), SweepError> {
+    let values = axis.values();
+    for (i, v) in values.iter().enumerate() {
+        if values[..i].contains(v) {
+            let show = |x: &dyn erased_json::Json| x.json();
+            return Err(SweepError::Spec(format!(
+                "{at}.{field} = {}: {} appears twice (grid points must differ; use \"seeds\" for more samples of one point)",
+                show(&values),
+                show(v)
+            )));
+        }
+    }
+    Ok(())
+}
+
+mod erased_json {
+    /// JSON text of a value, for messages.
+    pub trait Json {
+        /// The value as compact JSON.
+        fn json(&self) -> String;
+    }
+    impl<T: serde::Serialize> Json for T {
+        fn json(&self) -> String {
+            serde_json::to_string(self).unwrap_or_default()
+        }
+    }
+}
+
+/// Number of (N, box) pairs of a grid: N × φ, N × L, or φ × L.
+fn density_pairs(g: &Grid) -> f64 {
+    let len = |a: Option<usize>| a.unwrap_or(0) as f64;
+    let n = len(g.n.as_ref().map(|v| v.values().len()));
+    let phi = len(g.phi.as_ref().map(|v| v.values().len()));
+    let side = len(g.box_len.as_ref().map(|v| v.values().len()));
+    if n == 0.0 {
+        phi * side
+    } else {
+        n * phi.max(side)
+    }
+}
+
+/// Replicas of a grid, computed without expanding it.
+fn grid_size(g: &Grid) -> f64 {
+    let axes = [
+        g.dim.values().len(),
+        g.boundary.values().len(),
+        g.remedy.values().len(),
+        g.eps.values().len(),
+    ];
+    axes.iter().map(|&a| a as f64).product::<f64>() * density_pairs(g) * g.seeds as f64
+}
+
+impl Spec {
+    /// An upper bound on the samples of one replica: the linear grid, the logarithmic grid up to
+    /// `stop.tau_max`, τ = 0 and the end.
+    pub fn samples_per_replica(&self) -> f64 {
+        let tau = self.stop.tau_max;
+        let s = &self.samples;
+        let linear = s.every.map(|e| (tau / e).floor() + 1.0).unwrap_or(0.0);
+        let log = if s.per_decade > 0 && tau >= s.log_from {
+            (s.per_decade as f64 * (tau / s.log_from).log10()).floor() + 1.0
+        } else {
+            0.0
+        };
+        linear + log + 2.0
     }
 }
 
 /// Static checks of one replica that need no simulation: the box holds a cell list and the rule
 /// can be built. Errors name the replica.
 pub(crate) fn check_replica(spec: &Spec, r: &Replica) -> Result<(), SweepError> {
+    // N follows from φ and the box when `n` is absent: it must be a number the engine can hold.
+    let n_max = crate::domain::N.max;
+    if let (Density::Side(l), true) = (r.density, r.n as f64 > n_max) {
+        let phi = r.phi();
+        return Err(SweepError::Spec(format!(
+            "grid.box = {l} with phi = {:.4}: N = {:.3e} particles, more than the {n_max} one replica may hold; lower box or phi",
+            phi.min(1.0),
+            r.n as f64
+        )));
+    }
     let side = r.side();
     if !(side >= 3.0) {
         return Err(SweepError::Spec(format!(
@@ -238,7 +396,7 @@ pub(crate) fn check_replica(spec: &Spec, r: &Replica) -> Result<(), SweepError> 
 
 fn base_rule_check(spec: &Spec, r: &Replica) -> Result<(), EdmdError> {
     match spec.rule {
-        RuleSpec::Constant => ConstantRestitution::new(r.eps).map(drop),
+        RuleSpec::Constant {} => ConstantRestitution::new(r.eps).map(drop),
         RuleSpec::Threshold { delta, eps_low } => {
             ThresholdRestitution::new(r.eps, eps_low, delta).map(drop)
         }

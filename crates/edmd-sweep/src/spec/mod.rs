@@ -4,9 +4,7 @@
 //! schedule, the snapshots to store and output options. Unknown fields are rejected; every check names
 //! the field and the value. The full reference is `docs/sweep-spec.md` and `docs/sweep-spec.schema.json`.
 
-use std::borrow::Cow;
-
-use schemars::{json_schema, JsonSchema, Schema, SchemaGenerator};
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 use crate::domain;
@@ -14,64 +12,15 @@ use crate::SweepError;
 
 mod check;
 mod expand;
+mod one_or_many;
 
-pub use check::viscoelastic;
+pub use check::{viscoelastic, MAX_REPLICAS, MAX_SAMPLES};
 pub use expand::{ball_volume, close_packing, stable_hash, Density, Replica, Shard};
+pub use one_or_many::OneOrMany;
 
-/// A value or a list of values (`"eps": 0.9` or `"eps": [0.9, 0.8]`).
-#[derive(Debug, Clone, PartialEq, Serialize)]
-#[serde(untagged)]
-pub enum OneOrMany<T> {
-    /// A single value.
-    One(T),
-    /// A list of values (must not be empty).
-    Many(Vec<T>),
-}
-
-/// Deserialised by hand rather than with `#[serde(untagged)]`, so that an error inside a value
-/// (an unknown field of a grid, say) is reported as such instead of "did not match any variant".
-impl<'de, T: serde::de::DeserializeOwned> Deserialize<'de> for OneOrMany<T> {
-    fn deserialize<De: serde::Deserializer<'de>>(d: De) -> Result<Self, De::Error> {
-        use serde::de::Error;
-        match serde_json::Value::deserialize(d)? {
-            serde_json::Value::Array(items) => items
-                .into_iter()
-                .map(serde_json::from_value)
-                .collect::<Result<Vec<T>, _>>()
-                .map(OneOrMany::Many)
-                .map_err(De::Error::custom),
-            v => serde_json::from_value(v)
-                .map(OneOrMany::One)
-                .map_err(De::Error::custom),
-        }
-    }
-}
-
-/// In the schema: a value or a non-empty list of values.
-impl<T: JsonSchema> JsonSchema for OneOrMany<T> {
-    fn schema_name() -> Cow<'static, str> {
-        format!("OneOrMany_{}", T::schema_name()).into()
-    }
-
-    fn inline_schema() -> bool {
-        true
-    }
-
-    fn json_schema(generator: &mut SchemaGenerator) -> Schema {
-        let one = generator.subschema_for::<T>();
-        json_schema!({ "oneOf": [one, { "type": "array", "items": one, "minItems": 1 }] })
-    }
-}
-
-impl<T: Clone> OneOrMany<T> {
-    /// The values as a list.
-    pub fn values(&self) -> Vec<T> {
-        match self {
-            OneOrMany::One(v) => vec![v.clone()],
-            OneOrMany::Many(v) => v.clone(),
-        }
-    }
-}
+/// The largest spec file read (1 MiB): a spec is a few hundred bytes; this bounds what a wrong path
+/// (`/dev/zero`, a trajectory file) can make the reader allocate.
+pub const MAX_SPEC_BYTES: usize = 1 << 20;
 
 /// Boundary conditions of the box.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
@@ -111,7 +60,9 @@ impl BoundaryKind {
 #[serde(tag = "kind", rename_all = "lowercase", deny_unknown_fields)]
 pub enum Remedy {
     /// No remedy.
-    None,
+    // An empty struct variant rather than a unit one: serde checks unknown fields only on struct
+    // variants, and `{"kind": "none", "tc": 1}` must be refused as the schema refuses it.
+    None {},
     /// TC model: collisions within `tc` of a partner's previous collision are elastic.
     Tc {
         /// Contact duration t_c (time units of σ√(m/T0)).
@@ -130,7 +81,7 @@ impl Remedy {
     /// A short label for tables and files, e.g. `tc=0.001`.
     pub fn label(&self) -> String {
         match self {
-            Remedy::None => "none".into(),
+            Remedy::None {} => "none".into(),
             Remedy::Tc { tc } => format!("tc={tc}"),
             Remedy::Rotation { theta_max_deg } => format!("rotation={theta_max_deg}deg"),
         }
@@ -138,12 +89,12 @@ impl Remedy {
 }
 
 /// The collision law; the grid's `eps` sets its restitution (see each variant).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(tag = "kind", rename_all = "lowercase", deny_unknown_fields)]
 pub enum RuleSpec {
     /// Constant normal restitution ε = `eps`.
-    #[default]
-    Constant,
+    // An empty struct variant, so that unknown fields are refused (see `Remedy::None`).
+    Constant {},
     /// ε = `eps` above the normal speed `delta`, `eps_low` (default 1) below it.
     Threshold {
         /// Normal-speed threshold δ.
@@ -169,6 +120,12 @@ pub enum RuleSpec {
         #[schemars(schema_with = "domain::speed_one")]
         speed: f64,
     },
+}
+
+impl Default for RuleSpec {
+    fn default() -> Self {
+        RuleSpec::Constant {}
+    }
 }
 
 fn one() -> f64 {
@@ -260,6 +217,7 @@ pub struct SampleSpec {
     pub every: Option<f64>,
     /// Samples per decade of τ on a logarithmic grid (default 10; 0 for none).
     #[serde(default = "default_per_decade")]
+    #[schemars(schema_with = "domain::per_decade_one")]
     pub per_decade: u32,
     /// First τ of the logarithmic grid (default 0.1).
     #[serde(default = "default_log_from")]
@@ -392,7 +350,7 @@ fn default_seeds() -> u32 {
     1
 }
 fn default_remedy() -> OneOrMany<Remedy> {
-    OneOrMany::One(Remedy::None)
+    OneOrMany::One(Remedy::None {})
 }
 
 /// A sweep specification: the JSON file given to `edmd run` (reference: docs/sweep-spec.md).
@@ -405,7 +363,10 @@ fn default_remedy() -> OneOrMany<Remedy> {
     extend("then" = { "required": ["classify"] })
 )]
 pub struct Spec {
-    /// Name of the sweep (used in tables and file attributes).
+    /// Name of the sweep (used in tables and file attributes, and as the default output directory
+    /// `edmd-out/<name>`): a plain file name of letters, digits, `.`, `_` and `-`, not starting with
+    /// `.`, at most 100 characters.
+    #[schemars(extend("pattern" = "^[A-Za-z0-9_-][A-Za-z0-9._-]{0,99}$"))]
     pub name: String,
     /// Free text describing the sweep.
     #[serde(default)]
@@ -445,9 +406,31 @@ impl Spec {
         serde_json::to_string_pretty(&schema).expect("a schema serialises") + "\n"
     }
 
-    /// Parses and validates a spec from JSON text.
+    /// Parses and validates a spec from JSON text (at most [`MAX_SPEC_BYTES`]). A malformed value is
+    /// reported with the path of its field (`grid.eps: invalid type: string "x", expected f64`).
     pub fn from_json(text: &str) -> Result<Spec, SweepError> {
-        let spec: Spec = serde_json::from_str(text).map_err(|e| SweepError::Spec(e.to_string()))?;
+        if text.len() > MAX_SPEC_BYTES {
+            return Err(SweepError::Spec(format!(
+                "the spec holds {} bytes, more than the {MAX_SPEC_BYTES} a spec may hold",
+                text.len()
+            )));
+        }
+        let mut de = serde_json::Deserializer::from_str(text);
+        let spec: Spec = serde_path_to_error::deserialize(&mut de).map_err(|e| {
+            let mut path = e.path().to_string();
+            let mut message = e.into_inner().to_string();
+            if let Some((below, rest)) = one_or_many::split_path(&message) {
+                path += &below;
+                message = rest;
+            }
+            let path = path.trim_start_matches('.');
+            if path.is_empty() {
+                SweepError::Spec(message)
+            } else {
+                SweepError::Spec(format!("{path}: {message}"))
+            }
+        })?;
+        de.end().map_err(|e| SweepError::Spec(e.to_string()))?;
         spec.validate()?;
         Ok(spec)
     }
