@@ -86,3 +86,27 @@ def test_not_an_edmd_file(tmp_path):
         f["a"] = 1
     with pytest.raises(ea.SchemaError, match="not an edmd replica file"):
         ea.read_replica(p)
+
+
+@pytest.mark.parametrize(
+    "name, content, message",
+    [
+        ("r00000.h5.part", None, "still being written, or left by a killed run"),
+        ("r00000.h5.corrupt", None, "found unreadable and moved aside"),
+        ("r00000.h5", "truncated", "not a readable HDF5 file"),
+        ("r00000.h5", "zeroed", "not a readable HDF5 file"),
+    ],
+)
+def test_readers_name_partial_and_corrupt_files(sweep, tmp_path, name, content, message):
+    """Every reader raises CorruptFileError (a SchemaError) naming the file and what it is, instead
+    of h5py's raw OSError."""
+    whole = (sweep / "replicas" / "r00000.h5").read_bytes()
+    path = tmp_path / name
+    data = {"truncated": whole[: len(whole) // 2], "zeroed": bytes(len(whole))}.get(content, whole)
+    path.write_bytes(data)
+    for reader in (ea.read_replica, ea.read_snapshots, lambda p: ea.read_observable(p, "tau")):
+        with pytest.raises(ea.CorruptFileError, match=message) as info:
+            reader(path)
+        assert str(path) in str(info.value)
+    with pytest.raises(ea.SchemaError):
+        ea.read_replica(path)

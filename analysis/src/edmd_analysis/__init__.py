@@ -2,6 +2,7 @@
 
 from .io import (
     SCHEMA_VERSION,
+    CorruptFileError,
     Index,
     Replica,
     SchemaError,
@@ -14,6 +15,7 @@ from .io import (
 
 __all__ = [
     "SCHEMA_VERSION",
+    "CorruptFileError",
     "Index",
     "Replica",
     "SchemaError",

@@ -7,6 +7,7 @@ the path and both versions when it is not the one this package understands.
 from __future__ import annotations
 
 import json
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Dict
@@ -19,6 +20,38 @@ SCHEMA_VERSION = 1
 
 class SchemaError(ValueError):
     """A file is not edmd output, or is of a schema version this package does not read."""
+
+
+class CorruptFileError(SchemaError):
+    """A file that edmd never finished (``.part``), moved aside (``.corrupt``), or that is not
+    readable HDF5 (truncated, overwritten)."""
+
+
+@contextmanager
+def _open(path: Path):
+    """h5py.File(path, "r") with clear errors for the files edmd leaves that are not results."""
+    name = path.name
+    if name.endswith(".part") or ".tmp" in name:
+        raise CorruptFileError(
+            f"{path}: a file still being written, or left by a killed run; not a result "
+            "(rerunning `edmd run` with the same spec and -o finishes it)"
+        )
+    if ".corrupt" in name:
+        raise CorruptFileError(
+            f"{path}: a replica file edmd found unreadable and moved aside; its replica was run again "
+            f"as {path.name.split('.corrupt')[0]}"
+        )
+    if not path.exists():
+        raise FileNotFoundError(f"{path}: no such file")
+    try:
+        f = h5py.File(path, "r")
+    except OSError as e:
+        raise CorruptFileError(
+            f"{path}: not a readable HDF5 file ({e}); `edmd status OUT` lists corrupt replicas and "
+            "rerunning `edmd run` redoes them"
+        ) from e
+    with f:
+        yield f
 
 
 def _check_version(path: Path, attrs) -> None:
@@ -64,7 +97,7 @@ def read_index(out) -> Index:
         raise FileNotFoundError(
             f"{path}: no sweep index (the sweep is incomplete: rerun `edmd run` or `edmd merge`)"
         )
-    with h5py.File(path, "r") as f:
+    with _open(path) as f:
         _check_version(path, f.attrs)
         columns = {}
         for name, ds in f["replicas"].items():
@@ -110,7 +143,7 @@ def _params(path: Path, f: h5py.File) -> dict:
 def read_replica(path) -> Replica:
     """Reads a replica file: parameters (attributes of /parameters) and every observable."""
     path = Path(path)
-    with h5py.File(path, "r") as f:
+    with _open(path) as f:
         rep = Replica(path, _params(path, f))
         if "observables" in f:
             for name, g in f["observables"].items():
@@ -124,7 +157,7 @@ def read_replica(path) -> Replica:
 def read_observable(path, name: str):
     """(step, time, value) arrays of one observable of a replica file."""
     path = Path(path)
-    with h5py.File(path, "r") as f:
+    with _open(path) as f:
         _params(path, f)
         if name not in f.get("observables", {}):
             raise KeyError(f"{path}: no observable {name!r}")
@@ -150,7 +183,7 @@ class Snapshots:
 def read_snapshots(path) -> Snapshots:
     """Every stored snapshot of a replica file."""
     path = Path(path)
-    with h5py.File(path, "r") as f:
+    with _open(path) as f:
         params = _params(path, f)
         if "particles" not in f:
             raise SchemaError(f"{path}: no particles stored (status {params['status']})")

@@ -116,11 +116,11 @@ impl Domain {
         Schema::try_from(v).expect("an object")
     }
 
-    /// A value or a non-empty list of values (a grid axis).
+    /// A value or a non-empty list of distinct values (a grid axis).
     pub fn axis(&self) -> Schema {
         let one = self.value();
         json_schema!({
-            "oneOf": [one, { "type": "array", "items": one, "minItems": 1 }]
+            "oneOf": [one, { "type": "array", "items": one, "minItems": 1, "uniqueItems": true }]
         })
     }
 
@@ -162,8 +162,8 @@ pub const N: Domain = Domain::integers(
 /// Seeds per grid point.
 pub const SEEDS: Domain = Domain::integers(
     1.0,
-    u32::MAX as f64,
-    "need at least one seed per grid point",
+    crate::spec::MAX_REPLICAS as f64,
+    "need at least one seed per grid point, and at most 10^6 (the most replicas of a sweep)",
 );
 /// The TC model's contact duration.
 pub const TC: Domain = Domain::positive("contact duration must be positive");

@@ -129,7 +129,8 @@ pub fn phase_table(spec: &Spec, records: &[Record]) -> Vec<PointRow> {
                 done: count(Status::Done),
                 collapsed: count(Status::Collapsed),
                 failed: count(Status::Failed),
-                missing: count(Status::Missing),
+                // A corrupt file is no result: counted with the missing ones.
+                missing: count(Status::Missing) + count(Status::Corrupt),
                 tau_end,
                 log10_t_ratio,
                 log10_t_haff,

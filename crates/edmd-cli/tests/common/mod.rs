@@ -9,9 +9,13 @@ use std::process::{Command, Output};
 
 use hdf5::types::{TypeDescriptor, VarLenUnicode};
 
-/// The `edmd` binary under test.
+/// The `edmd` binary under test: this build's, or the one named by `EDMD_UNDER_TEST` (to show that
+/// a test fails on a build without the fix it covers).
 pub fn edmd() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_edmd"))
+    match std::env::var_os("EDMD_UNDER_TEST") {
+        Some(bin) => Command::new(bin),
+        None => Command::new(env!("CARGO_BIN_EXE_edmd")),
+    }
 }
 
 /// Runs `edmd` with `args`, returning its output.

@@ -73,7 +73,7 @@ pub(super) fn split_path(message: &str) -> Option<(String, String)> {
     Some((path.to_string(), message.to_string()))
 }
 
-/// In the schema: a value or a non-empty list of values.
+/// In the schema: a value or a non-empty list of distinct values.
 impl<T: JsonSchema> JsonSchema for OneOrMany<T> {
     fn schema_name() -> Cow<'static, str> {
         format!("OneOrMany_{}", T::schema_name()).into()
@@ -85,7 +85,7 @@ impl<T: JsonSchema> JsonSchema for OneOrMany<T> {
 
     fn json_schema(generator: &mut SchemaGenerator) -> Schema {
         let one = generator.subschema_for::<T>();
-        json_schema!({ "oneOf": [one, { "type": "array", "items": one, "minItems": 1 }] })
+        json_schema!({ "oneOf": [one, { "type": "array", "items": one, "minItems": 1, "uniqueItems": true }] })
     }
 }
 
