@@ -412,7 +412,13 @@ fn execute(command: Command) -> anyhow::Result<ExitCode> {
         Command::ValidateSpec { spec, max_memory } => {
             let s = load_spec(Some(&spec))?;
             let replicas = s.replicas();
-            let collisions: f64 = replicas.iter().map(|r| r.n as f64 * s.stop.tau_max).sum();
+            // Collisions per particle: the elastic melt (at most 20 by default, for lattice starts)
+            // and the run to tau_max.
+            let melt = s.init.melt_tau.unwrap_or(20.0);
+            let collisions: f64 = replicas
+                .iter()
+                .map(|r| r.n as f64 * (s.stop.tau_max + melt))
+                .sum();
             // One replica must fit; how many fit at once is checked by `run` with its --threads.
             let estimate = check_memory(&s, &replicas, 1, MemoryLimit::new(max_memory))?;
             let all_cores = replicas.iter().map(|r| replica_bytes(&s, r).total()).fold(
@@ -426,11 +432,12 @@ fn execute(command: Command) -> anyhow::Result<ExitCode> {
             sorted.sort_by(|a, b| b.total_cmp(a));
             let at_once: f64 = sorted.iter().take(available_threads()).sum();
             println!(
-                "{}: valid; {} replicas, at most {:.3e} pair collisions (tau_max = {}); per replica at most {:.0} samples and {} snapshots; memory: about {} for the largest replica{}, {} for {} at once",
+                "{}: valid; {} replicas, at most {:.3e} pair collisions (tau_max = {}, melt {}); per replica at most {:.0} samples and {} snapshots; memory: about {} for the largest replica{}, {} for {} at once",
                 spec.display(),
                 replicas.len(),
                 collisions,
                 s.stop.tau_max,
+                melt,
                 s.samples_per_replica(),
                 snapshots_per_replica(&s),
                 Bytes(estimate.run_bytes),
