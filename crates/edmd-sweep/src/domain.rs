@@ -140,6 +140,12 @@ fn number(x: f64) -> Value {
     }
 }
 
+/// Most replicas one sweep may hold (each is a file; expansion and validation are linear in them).
+pub const MAX_REPLICAS: usize = 1_000_000;
+
+/// Most samples one replica may take (every observable column is a value per sample).
+pub const MAX_SAMPLES: usize = 1_000_000;
+
 /// Restitution coefficients.
 pub const RESTITUTION: Domain = Domain::closed(0.0, 1.0, "restitution must lie in [0, 1]");
 /// Packing fractions: the schema bound is the densest (2D) packing; `check` uses the one of D.
@@ -162,7 +168,7 @@ pub const N: Domain = Domain::integers(
 /// Seeds per grid point.
 pub const SEEDS: Domain = Domain::integers(
     1.0,
-    crate::spec::MAX_REPLICAS as f64,
+    MAX_REPLICAS as f64,
     "need at least one seed per grid point, and at most 10^6 (the most replicas of a sweep)",
 );
 /// The TC model's contact duration.

@@ -9,7 +9,7 @@ use edmd_core::{
 };
 
 use super::{close_packing, Density, Grid, OneOrMany, Remedy, Replica, RuleSpec, Spec};
-use crate::domain::{self, Domain};
+use crate::domain::{self, Domain, MAX_REPLICAS, MAX_SAMPLES};
 use crate::SweepError;
 
 /// `field = value: reason` unless `value` lies in `domain`.
@@ -279,12 +279,6 @@ impl Spec {
         Ok(())
     }
 }
-
-/// Most replicas one sweep may hold (each is a file; expansion and validation are linear in them).
-pub const MAX_REPLICAS: usize = 1_000_000;
-
-/// Most samples one replica may take (every observable column is a value per sample).
-pub const MAX_SAMPLES: usize = 1_000_000;
 
 /// A name that is safe as one path component: `[A-Za-z0-9_-][A-Za-z0-9._-]{0,99}`.
 fn is_safe_name(name: &str) -> bool {

@@ -14,7 +14,8 @@ mod check;
 mod expand;
 mod one_or_many;
 
-pub use check::{viscoelastic, MAX_REPLICAS, MAX_SAMPLES};
+pub use crate::domain::{MAX_REPLICAS, MAX_SAMPLES};
+pub use check::viscoelastic;
 pub use expand::{ball_volume, close_packing, stable_hash, Density, Replica, Shard};
 pub use one_or_many::OneOrMany;
 
