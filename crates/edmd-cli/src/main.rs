@@ -204,6 +204,14 @@ impl Progress for Bar {
     }
 }
 
+/// Puts the spec's path before the message of a spec error, as `load_spec` does.
+fn spec_error(path: Option<&Path>, e: SweepError) -> anyhow::Error {
+    match (e, path) {
+        (SweepError::Spec(m), Some(p)) => SweepError::Spec(format!("{}: {m}", p.display())).into(),
+        (other, _) => other.into(),
+    }
+}
+
 fn load_spec(path: Option<&Path>) -> anyhow::Result<Spec> {
     match path {
         None => Ok(Spec::from_json(QUICK_SPEC)?),
@@ -214,10 +222,7 @@ fn load_spec(path: Option<&Path>) -> anyhow::Result<Spec> {
             std::fs::File::open(p)
                 .and_then(|f| f.take(MAX_SPEC_BYTES as u64 + 1).read_to_string(&mut text))
                 .with_context(|| format!("cannot read spec {}", p.display()))?;
-            Spec::from_json(&text).map_err(|e| match e {
-                SweepError::Spec(m) => SweepError::Spec(format!("{}: {m}", p.display())).into(),
-                other => other.into(),
-            })
+            Spec::from_json(&text).map_err(|e| spec_error(Some(p), e))
         }
     }
 }
@@ -277,7 +282,8 @@ fn execute(command: Command) -> anyhow::Result<ExitCode> {
                 .into_iter()
                 .filter(|r| shard.is_none_or(|s| s.contains(r.index)))
                 .collect();
-            check_memory(&spec_value, &mine, threads, MemoryLimit::new(max_memory))?;
+            check_memory(&spec_value, &mine, threads, MemoryLimit::new(max_memory))
+                .map_err(|e| spec_error(spec.as_deref(), e))?;
             drop(mine);
             let root = out.unwrap_or_else(|| Path::new("edmd-out").join(&spec_value.name));
             let mode = shard.map_or(LockMode::Exclusive, LockMode::Shard);
@@ -420,7 +426,8 @@ fn execute(command: Command) -> anyhow::Result<ExitCode> {
                 .map(|r| r.n as f64 * (s.stop.tau_max + melt))
                 .sum();
             // One replica must fit; how many fit at once is checked by `run` with its --threads.
-            let estimate = check_memory(&s, &replicas, 1, MemoryLimit::new(max_memory))?;
+            let estimate = check_memory(&s, &replicas, 1, MemoryLimit::new(max_memory))
+                .map_err(|e| spec_error(Some(&spec), e))?;
             let all_cores = replicas.iter().map(|r| replica_bytes(&s, r).total()).fold(
                 Vec::new(),
                 |mut v, b| {

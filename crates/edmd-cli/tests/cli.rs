@@ -241,6 +241,12 @@ fn bad_specs_are_rejected_with_one_clear_line() {
         "cannot read spec",
         &out,
     );
+    // Not a spec: read no further than 1 MiB, refused by size.
+    assert_rejected(
+        &["run", "/dev/zero", "-o", o],
+        "/dev/zero: the file is larger than 1048576 bytes",
+        &out,
+    );
     let nowhere = Path::new("/dev/null/edmd-out");
     assert_rejected(
         &["run", p, "-o", nowhere.to_str().unwrap()],

@@ -412,8 +412,7 @@ impl Spec {
     pub fn from_json(text: &str) -> Result<Spec, SweepError> {
         if text.len() > MAX_SPEC_BYTES {
             return Err(SweepError::Spec(format!(
-                "the spec holds {} bytes, more than the {MAX_SPEC_BYTES} a spec may hold",
-                text.len()
+                "the file is larger than {MAX_SPEC_BYTES} bytes, the most a spec may hold (a spec is a few hundred bytes of JSON)"
             )));
         }
         let mut de = serde_json::Deserializer::from_str(text);
