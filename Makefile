@@ -92,7 +92,8 @@ stress:
 	$(CARGO) test -p edmd-core --test engine -- --ignored --nocapture --test-threads 1 stress:: fuzz::
 
 # The nightly matrix (D, N, phi, eps): appends to benches/history.jsonl, prints a table and flags
-# cases > 10 % slower than the previous entry on this machine (exit 1). NIGHTLY_ARGS="--only D=2,N=10000".
+# cases > 10 % slower than the previous entry on this machine (exit 1); then, where the peer codes are
+# found (EDMD_PEERS=DIR), edmd/peer ratios side by side. NIGHTLY_ARGS="--only D=2,N=10000".
 bench-nightly:
 	$(CARGO) build --release -q --bin edmd-bench
 	$(PYTHON) scripts/bench-nightly.py $(NIGHTLY_ARGS)

@@ -13,11 +13,20 @@ median and spread, peak heap bytes per particle), prints a table, and flags ever
 than 10 % slower than the previous entry of the same case on the same machine. A case that comes out
 slower is first measured twice more (--confirm) and its entry becomes the median of all its
 measurements, so that a neighbour on a shared machine slowing some measurements is not taken for a
-regression, while a slower build, slow every time, is flagged. Exits 1 when a case is flagged
-(unless --no-fail), 2 on usage errors.
+regression, while a slower build, slow every time, is flagged.
+
+Then, side by side: where the public peer codes are found (scripts/peers.py: --peers DIR, EDMD_PEERS,
+or a shared/peers folder beside the checkout), they are built, and edmd-bench and the peer alternate
+on each peer case (2D phi 0.3 N = 1e4, 1e5, 1e6 against the 2D fork of Smallenburg's Single; 3D phi
+0.45 N = 10976, 97556, 1000188 against Single), --passes times. The entry records both medians and
+their ratio edmd/peer, and a ratio more than --threshold below the previous entry's is flagged: ratios
+measured in one run survive the machine's noise better than absolute rates. Without the peers this
+part is skipped with a note. About 10 more minutes on 2 cores.
+
+Exits 1 when a case is flagged (unless --no-fail), 2 on usage errors.
 
     scripts/bench-nightly.py [--history benches/history.jsonl] [--only D=2,N=10000]
-                             [--threshold 0.10] [--passes 3] [--confirm 2]
+                             [--threshold 0.10] [--passes 3] [--confirm 2] [--peers DIR | --no-peers]
 """
 
 from __future__ import annotations
@@ -31,6 +40,9 @@ import subprocess
 import sys
 import time
 from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import peers  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
 NS = [1_000, 10_000, 100_000, 1_000_000]
@@ -86,7 +98,7 @@ def commit_id() -> str:
 
 
 def key(row: dict) -> tuple:
-    return (row["machine"], row["d"], row["n"], row["phi"], row["eps"])
+    return (row["machine"], row["d"], row["n"], row["phi"], row["eps"], row.get("peer"))
 
 
 def parse_only(text: str | None) -> dict:
@@ -149,6 +161,8 @@ def main() -> int:
     ap.add_argument("--confirm", type=int, default=2, help="measure a slow case this many more times before flagging it (default 2)")
     ap.add_argument("--no-fail", action="store_true", help="exit 0 even when cases are flagged")
     ap.add_argument("--no-record", action="store_true", help="do not append to the history file")
+    ap.add_argument("--peers", help="folder of the peer codes (with build.sh); default: env EDMD_PEERS or shared/peers beside the checkout")
+    ap.add_argument("--no-peers", action="store_true", help="skip the side-by-side part")
     args = ap.parse_args()
     if not 0 < args.threshold < 1:
         print(f"error: invalid --threshold {args.threshold}: must lie in (0, 1)", file=sys.stderr)
@@ -244,6 +258,11 @@ def main() -> int:
             f"{100 * row['spread']:6.1f}% {row['bytes_per_particle']:6.0f} {prev_rate} {change:>7}{mark}",
             flush=True,
         )
+    side = [] if args.no_peers else side_by_side(args, bench, run, previous, only)
+    for row, prev in side:
+        rows.append(row)
+        if prev and row["ratio"] < prev["ratio"] * (1 - args.threshold):
+            flagged.append((row, prev, row["ratio"] / prev["ratio"]))
     if not args.no_record:
         history_path.parent.mkdir(parents=True, exist_ok=True)
         with history_path.open("a") as f:
@@ -253,10 +272,52 @@ def main() -> int:
     if flagged:
         print(f"bench-nightly: {len(flagged)} case(s) more than {100 * args.threshold:.0f} % slower than the previous entry on this machine:")
         for row, prev, ratio in flagged:
-            print(f"  D={row['d']} N={row['n']} phi={row['phi']} eps={row['eps']}: {row['collisions_per_s']:.0f} vs {prev['collisions_per_s']:.0f} collisions/s ({100 * (ratio - 1):+.1f} %) at {prev['commit']}")
+            if "peer" in row:
+                print(f"  side by side D={row['d']} N={row['n']}: edmd/peer {row['ratio']:.2f} vs {prev['ratio']:.2f} ({100 * (ratio - 1):+.1f} %) at {prev['commit']}")
+            else:
+                print(f"  D={row['d']} N={row['n']} phi={row['phi']} eps={row['eps']}: {row['collisions_per_s']:.0f} vs {prev['collisions_per_s']:.0f} collisions/s ({100 * (ratio - 1):+.1f} %) at {prev['commit']}")
         return 0 if args.no_fail else 1
     print("bench-nightly: no case slower than the threshold")
     return 0
+
+
+def median(xs: list[float]) -> float:
+    xs = sorted(xs)
+    mid = len(xs) // 2
+    return xs[mid] if len(xs) % 2 else 0.5 * (xs[mid - 1] + xs[mid])
+
+
+def side_by_side(args, bench: Path, run: dict, previous: dict, only: dict) -> list[tuple[dict, dict | None]]:
+    """edmd-bench and the peer alternating on every peer case: (history row, previous row) pairs."""
+    folder = peers.find(args.peers)
+    if folder is None:
+        print("bench-nightly: side by side skipped: no peer codes found (--peers DIR or EDMD_PEERS: a folder with build.sh)")
+        return []
+    binaries = peers.build(folder)
+    cases = [
+        (d, n) for d, n in peers.CASES
+        if all(abs({"d": d, "n": n, "phi": peers.PHI[d], "eps": 1.0}[k] - v) < 1e-12 for k, v in only.items())
+    ]
+    print(f"bench-nightly: side by side with the peers of {folder} ({len(cases)} cases, {args.passes} rounds, alternating)")
+    print(f"{'D':>2} {'N':>8} {'phi':>5} {'edmd/s':>11} {'peer/s':>11} {'ratio':>6} {'previous':>8}  peer")
+    out = []
+    for d, n in cases:
+        ours, theirs = [], []
+        for _ in range(args.passes):
+            ours.append(peers.our_rate(bench, d, n))
+            theirs.append(peers.peer_rate(binaries, d, n))
+        o, p = median(ours), median(theirs)
+        row = {
+            **run, "d": d, "n": n, "phi": peers.PHI[d], "eps": 1.0, "peer": peers.NAME[d],
+            "collisions_per_s": round(o), "peer_collisions_per_s": round(p), "ratio": round(o / p, 4),
+            "spread": round((max(ours) - min(ours)) / o, 4),
+            "peer_spread": round((max(theirs) - min(theirs)) / p, 4), "repeats": len(ours),
+        }
+        prev = previous.get(key(row))
+        was = f"{prev['ratio']:8.2f}" if prev else f"{'-':>8}"
+        print(f"{d:>2} {n:>8} {peers.PHI[d]:>5} {o:11.0f} {p:11.0f} {o / p:6.2f} {was}  {peers.NAME[d]}", flush=True)
+        out.append((row, prev))
+    return out
 
 
 if __name__ == "__main__":
