@@ -1,6 +1,7 @@
 """edmd_analysis.io on a finished sweep, a partial (killed or sharded) sweep and a file of another
 schema version."""
 
+import json
 import shutil
 
 import edmd_analysis as ea
@@ -110,3 +111,32 @@ def test_readers_name_partial_and_corrupt_files(sweep, tmp_path, name, content, 
         assert str(path) in str(info.value)
     with pytest.raises(ea.SchemaError):
         ea.read_replica(path)
+
+
+@pytest.mark.parametrize("dim, width", [(2, 1), (3, 3)])
+def test_rough_grains_read_back_spin_and_rotational_temperature(tmp_path, dim, width):
+    """A rough sweep: read_snapshots gives the angular velocities ((k, N, 1) in 2D, (k, N, 3) in 3D),
+    read_replica the rotational temperature, which the stored spins reproduce (I = q m (sigma/2)^2)."""
+    from conftest import run_edmd
+
+    spec = {
+        "name": "rough", "grid": {"dim": dim, "eps": 0.9, "beta": 0.5, "phi": 0.2, "n": 200},
+        "stop": {"tau_max": 5}, "snapshots": {"at": [0]},
+    }
+    (tmp_path / "s.json").write_text(json.dumps(spec))
+    run_edmd("run", tmp_path / "s.json", "-o", tmp_path / "out", "-q")
+    path = tmp_path / "out" / "replicas" / "r00000.h5"
+    snaps = ea.read_snapshots(path)
+    assert snaps.angular_velocity.shape == (2, 200, width)
+    rep = ea.read_replica(path)
+    t_rot = rep.observables["rotational_temperature"]
+    q = 0.5 if dim == 2 else 0.4
+    d_rot = 1 if dim == 2 else 3
+    w = snaps.angular_velocity[-1]
+    np.testing.assert_allclose((q * 0.25 * snaps.mass[:, None] * w**2).sum() / (d_rot * 200), t_rot[-1], rtol=1e-9)
+    assert float(rep.params["beta"]) == 0.5
+
+
+def test_smooth_grains_have_no_spin(sweep):
+    assert ea.read_snapshots(sweep / "replicas" / "r00000.h5").angular_velocity is None
+    assert "rotational_temperature" not in ea.read_replica(sweep / "replicas" / "r00000.h5").observables

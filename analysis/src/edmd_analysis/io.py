@@ -178,6 +178,8 @@ class Snapshots:
     boundary: list
     radius: np.ndarray
     mass: np.ndarray
+    # Angular velocities of rough grains, (k, N, 1) in 2D or (k, N, 3) in 3D; None for smooth grains.
+    angular_velocity: np.ndarray | None = None
 
 
 def read_snapshots(path) -> Snapshots:
@@ -200,4 +202,5 @@ def read_snapshots(path) -> Snapshots:
             boundary=[_str(b) for b in gas["box"].attrs["boundary"]],
             radius=gas["radius"][()],
             mass=gas["mass"][()],
+            angular_velocity=gas["angular_velocity/value"][()] if "angular_velocity" in gas else None,
         )

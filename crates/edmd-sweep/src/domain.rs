@@ -148,6 +148,21 @@ pub const MAX_SAMPLES: usize = 1_000_000;
 
 /// Restitution coefficients.
 pub const RESTITUTION: Domain = Domain::closed(0.0, 1.0, "restitution must lie in [0, 1]");
+/// Tangential restitution: −1 smooth, 1 perfectly rough.
+pub const BETA: Domain = Domain::closed(
+    -1.0,
+    1.0,
+    "tangential restitution must lie in [-1, 1] (-1: smooth)",
+);
+/// Moment-of-inertia factors q, I = q m (σ/2)²: a ring (disks) or a thin shell's 2/3 (spheres) bound
+/// them physically; 1 is the ring.
+pub const INERTIA: Domain = Domain::new(
+    0.0,
+    true,
+    1.0,
+    false,
+    "moment-of-inertia factor must lie in (0, 1] (1/2: uniform disk, 2/5: uniform sphere)",
+);
 /// Packing fractions: the schema bound is the densest (2D) packing; `check` uses the one of D.
 pub const PHI: Domain = Domain::open(0.0, 0.9069, "packing fraction must lie below close packing");
 /// Box sides: positive, and at most 10^6 diameters (N = 10^7 disks at φ = 0.3 fill a box of 5100;
@@ -217,6 +232,8 @@ macro_rules! schema_fns {
 
 schema_fns! {
     eps_axis => RESTITUTION.axis,
+    beta_axis => BETA.axis,
+    inertia_optional => INERTIA.optional,
     phi_axis => PHI.optional_axis,
     box_axis => BOX.optional_axis,
     n_axis => N.optional_axis,

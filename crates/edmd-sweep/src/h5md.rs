@@ -8,6 +8,7 @@
 //! /particles/gas/box         dimension, boundary ("periodic"/"none" per axis); edges [D]
 //! /particles/gas/position    step [k] (pair collisions), time [k], value [k, N, D]
 //! /particles/gas/velocity    step [k], time [k], value [k, N, D]
+//! /particles/gas/angular_velocity  step [k], time [k], value [k, N, 1 (2D) or 3]  (rough grains)
 //! /particles/gas/mass        [N];  /particles/gas/radius [N]
 //! /observables/<name>        step [s], time [s], value [s]   (temperature, ln_temperature, tau, …)
 //! /parameters                schema_version, spec (JSON), spec_hash, engine_version, git_commit,
@@ -292,6 +293,8 @@ fn write_file(file: &hdf5::File, spec: &Spec, r: &Replica, out: &Outcome) -> hdf
     attr_i64(&p, "dim", r.dim as i64)?;
     attr_str(&p, "boundary", r.boundary.name())?;
     attr_f64(&p, "eps", r.eps)?;
+    attr_f64(&p, "beta", r.beta)?;
+    attr_f64(&p, "inertia", if r.rough() { r.inertia } else { f64::NAN })?;
     attr_f64(&p, "phi", r.phi())?;
     attr_f64(&p, "box_side", r.side())?;
     attr_i64(&p, "n", r.n as i64)?;
@@ -373,6 +376,13 @@ fn write_file(file: &hdf5::File, spec: &Spec, r: &Replica, out: &Outcome) -> hdf
     if !out.snapshots.is_empty() {
         w.trajectory(&gas, "position", &out.snapshots, r.n, d, |s| &s.position)?;
         w.trajectory(&gas, "velocity", &out.snapshots, r.n, d, |s| &s.velocity)?;
+        if r.rough() {
+            // ω_z of disks, (N, 1); ω of spheres, (N, 3).
+            let width = if d == 2 { 1 } else { 3 };
+            w.trajectory(&gas, "angular_velocity", &out.snapshots, r.n, width, |s| {
+                &s.angular_velocity
+            })?;
+        }
     }
 
     // Observables.
@@ -391,6 +401,15 @@ fn write_file(file: &hdf5::File, spec: &Spec, r: &Replica, out: &Outcome) -> hdf
     ];
     for (name, values) in columns {
         w.observable(&obs, name, &s.step, &s.time, values)?;
+    }
+    if r.rough() && s.rotational_temperature.len() == s.step.len() {
+        w.observable(
+            &obs,
+            "rotational_temperature",
+            &s.step,
+            &s.time,
+            &s.rotational_temperature,
+        )?;
     }
     let collisions: Vec<f64> = s.step.iter().map(|&c| c as f64).collect();
     w.observable(&obs, "collisions", &s.step, &s.time, &collisions)?;
@@ -461,6 +480,12 @@ pub fn read_record(path: &Path, spec_hash: &str) -> Result<Record, SweepError> {
             dim: read_i64(&p, "dim")? as usize,
             boundary: read_str(&p, "boundary")?,
             eps: read_f64(&p, "eps")?,
+            // Files written before rough grains have no beta: smooth.
+            beta: if p.attr("beta").is_ok() {
+                read_f64(&p, "beta")?
+            } else {
+                -1.0
+            },
             phi: read_f64(&p, "phi")?,
             box_side: read_f64(&p, "box_side")?,
             n: read_i64(&p, "n")? as usize,

@@ -160,6 +160,8 @@ record_fields! {
     boundary: String,
     /// Restitution.
     eps: f64,
+    /// Tangential restitution (−1: smooth).
+    beta: f64,
     /// Packing fraction.
     phi: f64,
     /// Box side.
@@ -209,6 +211,7 @@ impl Record {
             dim: r.dim,
             boundary: r.boundary.name().into(),
             eps: r.eps,
+            beta: r.beta,
             phi: r.phi(),
             box_side: r.side(),
             n: r.n,
@@ -266,6 +269,7 @@ mod tests {
             dim: 2,
             boundary: "periodic".into(),
             eps: 0.9,
+            beta: -1.0,
             phi: 0.25,
             box_side: 56.7,
             n: 1024,

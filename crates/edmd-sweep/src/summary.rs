@@ -27,6 +27,8 @@ pub struct PointRow {
     pub box_side: f64,
     /// Restitution.
     pub eps: f64,
+    /// Tangential restitution (−1: smooth).
+    pub beta: f64,
     /// Seeds in the spec.
     pub seeds: usize,
     /// Seeds finished normally.
@@ -97,7 +99,7 @@ pub fn phase_table(spec: &Spec, records: &[Record]) -> Vec<PointRow> {
             let tau_end = median(ran.iter().map(|r| r.tau).collect());
             let ln10 = std::f64::consts::LN_10;
             let log10_t_ratio = median(ran.iter().map(|r| r.ln_temperature_ratio / ln10).collect());
-            let log10_t_haff = if matches!(spec.rule, RuleSpec::Constant {}) {
+            let log10_t_haff = if matches!(spec.rule, RuleSpec::Constant {}) && first.beta == -1.0 {
                 -haff_rate(first.dim, first.eps) * tau_end / ln10
             } else {
                 f64::NAN
@@ -125,6 +127,7 @@ pub fn phase_table(spec: &Spec, records: &[Record]) -> Vec<PointRow> {
                 phi: first.phi,
                 box_side: first.box_side,
                 eps: first.eps,
+                beta: first.beta,
                 seeds: g.len(),
                 done: count(Status::Done),
                 collapsed: count(Status::Collapsed),
@@ -173,7 +176,7 @@ impl FromStr for Format {
     }
 }
 
-const COLUMNS: usize = 22;
+const COLUMNS: usize = 23;
 const HEADER: [&str; COLUMNS] = [
     "D",
     "boundary",
@@ -182,6 +185,7 @@ const HEADER: [&str; COLUMNS] = [
     "phi",
     "L",
     "eps",
+    "beta",
     "seeds",
     "done",
     "collapsed",
@@ -215,6 +219,7 @@ fn cells(r: &PointRow) -> [String; COLUMNS] {
         f(r.phi, 4),
         f(r.box_side, 2),
         r.eps.to_string(),
+        r.beta.to_string(),
         r.seeds.to_string(),
         r.done.to_string(),
         r.collapsed.to_string(),

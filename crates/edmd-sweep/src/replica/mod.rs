@@ -6,7 +6,7 @@ use std::time::Instant;
 use edmd_core::theory::haff_rate;
 use edmd_core::{
     Boundary, Channel, CollisionRule, ConstantRestitution, EdmdError, Periodic, RandomRotation,
-    TcModel, ThesisRestitution, ThresholdRestitution, Walls,
+    Rough, TcModel, ThesisRestitution, ThresholdRestitution, Walls,
 };
 
 use crate::classify::{critical_box_sides, Class, Classification, OrderSeries, Theory};
@@ -44,6 +44,8 @@ pub struct Series {
     pub momentum_error: Vec<f64>,
     /// Haff's law T0 exp(−k(ε) τ) (first Sonine order), for the constant-restitution rule only.
     pub haff_temperature: Vec<f64>,
+    /// Rotational temperature Σ I ω² / (d_rot N) of rough grains (empty for smooth ones).
+    pub rotational_temperature: Vec<f64>,
     /// Order parameters (empty unless the spec has a `classify` section).
     pub order: OrderSeries,
 }
@@ -59,6 +61,8 @@ pub struct Snapshot {
     pub position: Vec<f64>,
     /// Velocities, N × D, row-major.
     pub velocity: Vec<f64>,
+    /// Angular velocities of rough grains, N × 1 (2D) or N × 3 (3D), row-major; empty when smooth.
+    pub angular_velocity: Vec<f64>,
 }
 
 /// Everything a replica produced.
@@ -182,14 +186,28 @@ fn by_remedy<const D: usize, B: Boundary, R: CollisionRule<State = ()>>(
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<Outcome, EdmdError> {
     match r.remedy {
-        Remedy::None {} => simulate::<D, B, R>(spec, r, rule, progress),
-        Remedy::Tc { tc } => simulate::<D, B, _>(spec, r, TcModel::new(rule, tc)?, progress),
-        Remedy::Rotation { theta_max_deg } => simulate::<D, B, _>(
+        Remedy::None {} => by_roughness::<D, B, R>(spec, r, rule, progress),
+        Remedy::Tc { tc } => by_roughness::<D, B, _>(spec, r, TcModel::new(rule, tc)?, progress),
+        Remedy::Rotation { theta_max_deg } => by_roughness::<D, B, _>(
             spec,
             r,
             RandomRotation::new(rule, theta_max_deg.to_radians())?,
             progress,
         ),
+    }
+}
+
+/// Smooth grains run the rule as it is; rough ones (β > −1) wrap it in [`Rough`], which carries spin.
+fn by_roughness<const D: usize, B: Boundary, R: CollisionRule>(
+    spec: &Spec,
+    r: &Replica,
+    rule: R,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<Outcome, EdmdError> {
+    if r.rough() {
+        simulate::<D, B, _>(spec, r, Rough::new(rule, r.beta, r.inertia)?, progress)
+    } else {
+        simulate::<D, B, R>(spec, r, rule, progress)
     }
 }
 
@@ -203,7 +221,9 @@ pub fn theory(spec: &Spec, r: &Replica) -> Theory {
         .map(|c| c.grid_for(r.n, r.dim))
         .unwrap_or(1);
     Theory {
-        haff_rate: matches!(spec.rule, RuleSpec::Constant {}).then(|| haff_rate(r.dim, r.eps)),
+        // Smooth grains only: for rough ones the classifier fits the cooling rate instead.
+        haff_rate: (matches!(spec.rule, RuleSpec::Constant {}) && !r.rough())
+            .then(|| haff_rate(r.dim, r.eps)),
         l_over_l_perp: r.side() / lp,
         l_over_l_par: r.side() / lq,
         per_cell: r.n as f64 / (grid as f64).powi(r.dim as i32),

@@ -25,6 +25,28 @@ fn flat<const D: usize>(v: &[Vector<D>]) -> Vec<f64> {
     v.iter().flat_map(|x| x.iter().copied()).collect()
 }
 
+/// Angular velocities of rough grains, N × 1 (ω_z) in 2D and N × 3 in 3D; empty for smooth grains.
+fn spins<const D: usize, B: Boundary, R: CollisionRule>(sim: &Simulation<D, B, R>) -> Vec<f64> {
+    if !R::ROUGH {
+        return Vec::new();
+    }
+    let w = sim.spins();
+    if D == 2 {
+        w.iter().map(|s| s[2]).collect()
+    } else {
+        w.iter().flat_map(|s| s.iter().copied()).collect()
+    }
+}
+
+/// Rotational degrees of freedom per particle: 1 for disks, 3 for spheres.
+const fn rotational_dof(d: usize) -> f64 {
+    if d == 2 {
+        1.0
+    } else {
+        3.0
+    }
+}
+
 pub(super) fn simulate<const D: usize, B: Boundary, R: CollisionRule>(
     spec: &Spec,
     r: &Replica,
@@ -42,7 +64,8 @@ pub(super) fn simulate<const D: usize, B: Boundary, R: CollisionRule>(
     let t0 = sim.temperature();
     let n = r.n as f64;
     let volume = sim.box_len().iter().product::<f64>();
-    let haff = matches!(spec.rule, RuleSpec::Constant {});
+    // Haff's law of smooth grains; rough grains cool by another law (PHYSICS.md §6.5).
+    let haff = matches!(spec.rule, RuleSpec::Constant {}) && !r.rough();
     let grid = spec.classify.as_ref().map(|c| c.grid_for(r.n, D));
     let masses = sim.masses();
     let theory = theory(spec, r);
@@ -97,6 +120,12 @@ pub(super) fn simulate<const D: usize, B: Boundary, R: CollisionRule>(
         series
             .momentum_error
             .push(o.momentum.norm() / o.momentum_scale.max(f64::MIN_POSITIVE));
+        if R::ROUGH {
+            // T_rot = Σ I ω² / (d_rot N) (PHYSICS.md §6.5), beside the translational T.
+            series
+                .rotational_temperature
+                .push(2.0 * sim.rotational_energy() / (rotational_dof(D) * n));
+        }
         series.haff_temperature.push(if haff {
             haff_temperature_tau(D, r.eps, t0, o.tau)
         } else {
@@ -130,6 +159,7 @@ pub(super) fn simulate<const D: usize, B: Boundary, R: CollisionRule>(
                 time: o.time,
                 position: flat(&sim.positions()),
                 velocity: flat(&sim.velocities()),
+                angular_velocity: spins(sim),
             });
         }
     };
@@ -199,6 +229,7 @@ pub(super) fn simulate<const D: usize, B: Boundary, R: CollisionRule>(
             time: sim.time(),
             position: flat(&sim.positions()),
             velocity: flat(&sim.velocities()),
+            angular_velocity: spins(&sim),
         });
     }
     let (status, message, collapse) = match end {

@@ -57,12 +57,13 @@ impl Spec {
                 at,
                 &format!("{total:.3e} replicas"),
                 &format!(
-                    "more than the {MAX_REPLICAS} one sweep may hold (the product of the axes: dim {} × boundary {} × remedy {} × (n, phi or box) {} × eps {} × seeds {}{}); split the sweep",
+                    "more than the {MAX_REPLICAS} one sweep may hold (the product of the axes: dim {} × boundary {} × remedy {} × (n, phi or box) {} × eps {} × beta {} × seeds {}{}); split the sweep",
                     g.dim.values().len(),
                     g.boundary.values().len(),
                     g.remedy.values().len(),
                     density_pairs(g),
                     g.eps.values().len(),
+                    g.beta.values().len(),
                     g.seeds,
                     if grids.len() > 1 { " for the first grid" } else { "" }
                 ),
@@ -111,6 +112,16 @@ impl Spec {
         }
         for e in g.eps.values() {
             within("eps", e, &domain::RESTITUTION)?;
+        }
+        no_duplicates(at, "beta", &g.beta)?;
+        if g.beta.values().is_empty() {
+            return bad("beta", &"[]", "empty axis: the grid has no replicas");
+        }
+        for b in g.beta.values() {
+            within("beta", b, &domain::BETA)?;
+        }
+        if let Some(q) = g.inertia {
+            within("inertia", q, &domain::INERTIA)?;
         }
         match (&g.n, g.phi.is_some() && g.box_len.is_some()) {
             (Some(_), true) => {
@@ -339,6 +350,7 @@ fn grid_size(g: &Grid) -> f64 {
         g.boundary.values().len(),
         g.remedy.values().len(),
         g.eps.values().len(),
+        g.beta.values().len(),
     ];
     axes.iter().map(|&a| a as f64).product::<f64>() * density_pairs(g) * g.seeds as f64
 }

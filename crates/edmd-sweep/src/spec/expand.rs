@@ -25,6 +25,10 @@ pub struct Replica {
     pub boundary: BoundaryKind,
     /// Restitution.
     pub eps: f64,
+    /// Tangential restitution (−1: smooth grains, no spin).
+    pub beta: f64,
+    /// Moment-of-inertia factor q (I = q m (σ/2)²) of rough grains.
+    pub inertia: f64,
     /// Box as given.
     pub density: Density,
     /// Particle number.
@@ -61,17 +65,36 @@ impl Replica {
         }
     }
 
+    /// Whether the grains are rough (β > −1: they carry spin).
+    pub fn rough(&self) -> bool {
+        self.beta > -1.0
+    }
+
     /// The grid point (every parameter but the seed) as a key for grouping.
     pub fn point_key(&self) -> String {
         format!(
-            "{}|{}|{}|{}|{}|{}",
+            "{}|{}|{}|{}|{}|{}{}",
             self.dim,
             self.boundary.name(),
             self.eps,
             self.density_label(),
             self.n,
-            self.remedy.label()
+            self.remedy.label(),
+            self.rough_label()
         )
+    }
+
+    /// `""` for smooth grains, `, beta=0.5` (and the inertia factor when not uniform) for rough ones.
+    pub fn rough_label(&self) -> String {
+        if !self.rough() {
+            return String::new();
+        }
+        let uniform = if self.dim == 2 { 0.5 } else { 0.4 };
+        if self.inertia == uniform {
+            format!(", beta={}", self.beta)
+        } else {
+            format!(", beta={}, inertia={}", self.beta, self.inertia)
+        }
     }
 
     /// `phi=0.25` or `L=56.7`.
@@ -87,11 +110,12 @@ impl fmt::Display for Replica {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(
             f,
-            "replica {} (D={}, {}, eps={}, {}, N={}, seed #{}, remedy {})",
+            "replica {} (D={}, {}, eps={}{}, {}, N={}, seed #{}, remedy {})",
             self.index,
             self.dim,
             self.boundary.name(),
             self.eps,
+            self.rough_label(),
             self.density_label(),
             self.n,
             self.seed_index,
@@ -127,7 +151,7 @@ pub fn stable_hash(bytes: &[u8]) -> u64 {
 
 impl Spec {
     /// The replicas in expansion order: grid by grid; within a grid dim, boundary, remedy, n, density,
-    /// eps, seed (seed fastest).
+    /// eps, beta, seed (seed fastest).
     pub fn replicas(&self) -> Vec<Replica> {
         let mut out = Vec::new();
         for g in self.grid.values() {
@@ -141,6 +165,7 @@ impl Spec {
         let phis = g.phi.as_ref().map(|p| p.values()).unwrap_or_default();
         let sides = g.box_len.as_ref().map(|l| l.values()).unwrap_or_default();
         for dim in g.dim.values() {
+            let inertia = g.inertia.unwrap_or(if dim == 2 { 0.5 } else { 0.4 });
             // (N, box) pairs: N × φ, N × L, or N = round(φ L^D / v₁) for φ × L.
             let pairs: Vec<(usize, Density)> = match (phis.is_empty(), sides.is_empty()) {
                 (false, true) => ns
@@ -165,20 +190,24 @@ impl Spec {
                 for remedy in g.remedy.values() {
                     for &(n, density) in &pairs {
                         for eps in g.eps.values() {
-                            for seed_index in 0..g.seeds {
-                                let mut r = Replica {
-                                    index: out.len(),
-                                    dim,
-                                    boundary,
-                                    eps,
-                                    density,
-                                    n,
-                                    seed_index,
-                                    remedy,
-                                    seed: 0,
-                                };
-                                r.seed = self.replica_seed(&r);
-                                out.push(r);
+                            for beta in g.beta.values() {
+                                for seed_index in 0..g.seeds {
+                                    let mut r = Replica {
+                                        index: out.len(),
+                                        dim,
+                                        boundary,
+                                        eps,
+                                        beta,
+                                        inertia,
+                                        density,
+                                        n,
+                                        seed_index,
+                                        remedy,
+                                        seed: 0,
+                                    };
+                                    r.seed = self.replica_seed(&r);
+                                    out.push(r);
+                                }
                             }
                         }
                     }
@@ -188,8 +217,8 @@ impl Spec {
     }
 
     /// The seed of a replica's initial state. It derives from the sweep seed and the parameters that
-    /// define the initial state (D, boundary, box, N, seed number), not from ε or the remedy: replicas
-    /// that differ only in ε start from the same state (common random numbers), which sharpens
+    /// define the initial state (D, boundary, box, N, seed number), not from ε, β or the remedy: replicas
+    /// that differ only in ε (or β) start from the same state (common random numbers), which sharpens
     /// comparisons across ε. It does not depend on the replica's index, the thread count or the shard.
     pub fn replica_seed(&self, r: &Replica) -> u64 {
         let key = format!(

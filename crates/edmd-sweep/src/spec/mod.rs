@@ -339,6 +339,15 @@ pub struct Grid {
     /// Collapse remedies (default none).
     #[serde(default = "default_remedy")]
     pub remedy: OneOrMany<Remedy>,
+    /// Tangential restitution β of rough grains, in [−1, 1] (default −1: smooth, no spin).
+    #[serde(default = "default_beta", skip_serializing_if = "is_smooth")]
+    #[schemars(schema_with = "domain::beta_axis")]
+    pub beta: OneOrMany<f64>,
+    /// Moment-of-inertia factor q of rough grains, I = q m (σ/2)² (default: uniform, 1/2 for disks
+    /// and 2/5 for spheres).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(schema_with = "domain::inertia_optional")]
+    pub inertia: Option<f64>,
 }
 
 fn default_dim() -> OneOrMany<usize> {
@@ -346,6 +355,14 @@ fn default_dim() -> OneOrMany<usize> {
 }
 fn default_boundary() -> OneOrMany<BoundaryKind> {
     OneOrMany::One(BoundaryKind::Periodic)
+}
+fn default_beta() -> OneOrMany<f64> {
+    OneOrMany::One(-1.0)
+}
+/// Smooth grains leave `beta` out of the canonical spec, so that specs written before rough grains
+/// keep their hash.
+fn is_smooth(beta: &OneOrMany<f64>) -> bool {
+    *beta == default_beta()
 }
 fn default_seeds() -> u32 {
     1
