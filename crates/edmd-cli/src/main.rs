@@ -6,16 +6,20 @@ use std::process::ExitCode;
 
 use anyhow::{bail, Context};
 use clap::{Parser, Subcommand, ValueEnum};
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use edmd_sweep::budget::{check_memory, replica_bytes, snapshots_per_replica, Bytes, MemoryLimit};
 use edmd_sweep::lock::LockMode;
 use edmd_sweep::output::OutDir;
 use edmd_sweep::record::{Record, Status};
-use edmd_sweep::run::{available_threads, run_sweep, Progress, RunOptions};
+use edmd_sweep::run::{available_threads, run_sweep, RunOptions};
 use edmd_sweep::spec::{Shard, Spec, MAX_SPEC_BYTES};
 use edmd_sweep::summary::{phase_table, render, Format};
 use edmd_sweep::{merge, SweepError, QUICK_SPEC};
+
+mod bar;
+mod size;
+use bar::Bar;
+use size::parse_size;
 
 const EXAMPLES: &str = "\
 Examples:
@@ -133,74 +137,6 @@ impl From<FormatArg> for Format {
             FormatArg::Csv => Format::Csv,
             FormatArg::Json => Format::Json,
         }
-    }
-}
-
-/// The progress bar on stderr (hidden with `--quiet` or when stderr is not a terminal).
-struct Bar(ProgressBar);
-
-impl Bar {
-    fn new(quiet: bool) -> Bar {
-        if quiet {
-            Bar::with_target(ProgressDrawTarget::hidden())
-        } else {
-            Bar::with_target(ProgressDrawTarget::stderr())
-        }
-    }
-
-    fn with_target(target: ProgressDrawTarget) -> Bar {
-        let bar = ProgressBar::with_draw_target(Some(1), target);
-        bar.set_style(
-            ProgressStyle::with_template(
-                "{spinner} [{elapsed_precise}] {bar:30} {msg} | collisions {per_sec:0} | ETA {eta}",
-            )
-            .expect("valid template"),
-        );
-        Bar(bar)
-    }
-}
-
-/// Parses `8G`, `512M`, `64k` or a number of bytes (binary units).
-fn parse_size(s: &str) -> Result<u64, String> {
-    let t = s.trim();
-    let (num, mult) = match t.char_indices().last() {
-        Some((i, c)) if c.is_ascii_alphabetic() => {
-            let m = match c.to_ascii_uppercase() {
-                'K' => 1u64 << 10,
-                'M' => 1 << 20,
-                'G' => 1 << 30,
-                'T' => 1 << 40,
-                _ => return Err(format!("unknown unit {c:?} (use K, M, G or T)")),
-            };
-            (&t[..i], m)
-        }
-        _ => (t, 1),
-    };
-    let v: f64 = num
-        .parse()
-        .map_err(|_| format!("expected a size such as 8G or 512M, got {s:?}"))?;
-    if !(v > 0.0 && v * (mult as f64) < 1.8e19) {
-        return Err(format!("size must be positive and below 16 EiB, got {s:?}"));
-    }
-    Ok((v * mult as f64) as u64)
-}
-
-impl Progress for Bar {
-    fn start(&self, replicas: usize, collisions: u64) {
-        self.0.set_length(collisions.max(1));
-        self.0.set_message(format!("0/{replicas} replicas"));
-    }
-    fn advance(&self, collisions: u64) {
-        self.0.inc(collisions);
-    }
-    fn replica_done(&self, done: usize, replicas: usize) {
-        self.0.set_message(format!("{done}/{replicas} replicas"));
-    }
-    fn finish(&self) {
-        self.0.finish_and_clear();
-    }
-    fn notice(&self, message: &str) {
-        self.0.suspend(|| eprintln!("{message}"));
     }
 }
 
@@ -467,87 +403,5 @@ fn exit_for(records: &[Record]) -> ExitCode {
         ExitCode::SUCCESS
     } else {
         ExitCode::from(2)
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use std::sync::{Arc, Mutex};
-
-    /// A terminal that records what is drawn on it.
-    #[derive(Debug, Clone, Default)]
-    struct Screen(Arc<Mutex<String>>);
-
-    impl indicatif::TermLike for Screen {
-        fn width(&self) -> u16 {
-            160
-        }
-        fn move_cursor_up(&self, _: usize) -> std::io::Result<()> {
-            Ok(())
-        }
-        fn move_cursor_down(&self, _: usize) -> std::io::Result<()> {
-            Ok(())
-        }
-        fn move_cursor_right(&self, _: usize) -> std::io::Result<()> {
-            Ok(())
-        }
-        fn move_cursor_left(&self, _: usize) -> std::io::Result<()> {
-            Ok(())
-        }
-        fn write_line(&self, s: &str) -> std::io::Result<()> {
-            self.write_str(&format!("{s}\n"))
-        }
-        fn write_str(&self, s: &str) -> std::io::Result<()> {
-            self.0.lock().unwrap().push_str(s);
-            Ok(())
-        }
-        fn clear_line(&self) -> std::io::Result<()> {
-            Ok(())
-        }
-        fn flush(&self) -> std::io::Result<()> {
-            Ok(())
-        }
-    }
-
-    /// The bar shows a collision rate with a number (the earlier `{human_per_sec}` is no indicatif
-    /// key and drew nothing).
-    #[test]
-    fn the_progress_bar_shows_collisions_per_second() {
-        let screen = Screen::default();
-        let bar = Bar::with_target(ProgressDrawTarget::term_like(Box::new(screen.clone())));
-        bar.start(3, 3_000_000);
-        for _ in 0..5 {
-            std::thread::sleep(std::time::Duration::from_millis(30));
-            bar.advance(100_000);
-            bar.0.tick();
-        }
-        bar.replica_done(1, 3);
-        bar.0.tick();
-        let drawn = screen.0.lock().unwrap().clone();
-        // The last frame drawn (frames follow one another on one line).
-        let line = drawn.rsplit('⠁').next().unwrap_or_default();
-        let line = line.rsplit("[00:").next().unwrap_or_default().to_string();
-        let rate = line
-            .split("collisions ")
-            .nth(1)
-            .and_then(|r| r.split("/s").next())
-            .unwrap_or_default()
-            .replace(',', "");
-        assert!(
-            rate.parse::<u64>().is_ok_and(|x| x > 0),
-            "no whole-number rate in {line:?}"
-        );
-        assert!(line.contains("1/3 replicas"), "{line:?}");
-    }
-
-    #[test]
-    fn sizes_parse_in_binary_units() {
-        assert_eq!(parse_size("512"), Ok(512));
-        assert_eq!(parse_size("8G"), Ok(8 << 30));
-        assert_eq!(parse_size("1.5k"), Ok(1536));
-        assert!(parse_size("lots").is_err());
-        assert!(parse_size("-1G").is_err());
-        assert!(parse_size("3Q").is_err());
     }
 }
