@@ -51,6 +51,8 @@ pub struct InitParams<const D: usize> {
     pub radii: Option<Vec<f64>>,
     /// Mass of a particle of radius `radius` (default 1); with `radii`, masses scale as r^D.
     pub mass: f64,
+    /// Per-particle masses (a mixture of materials); overrides `mass` and the r^D scaling.
+    pub masses: Option<Vec<f64>>,
     /// Placement method (default `Auto`).
     pub placement: Placement,
     /// Velocity distribution (default `Maxwell`).
@@ -91,6 +93,7 @@ impl<const D: usize> InitParams<D> {
             radius: 0.5,
             radii: None,
             mass: 1.0,
+            masses: None,
             placement: Placement::Auto,
             velocities: Velocities::Maxwell,
             temperature: 1.0,
@@ -137,6 +140,22 @@ impl<const D: usize> InitParams<D> {
                     "radii",
                     bad,
                     "every radius must be positive",
+                ));
+            }
+        }
+        if let Some(m) = &self.masses {
+            if m.len() != self.n {
+                return Err(EdmdError::invalid(
+                    "masses",
+                    m.len(),
+                    format!("need one mass per particle (N = {})", self.n),
+                ));
+            }
+            if let Some(bad) = m.iter().find(|&&m| !(m > 0.0 && m.is_finite())) {
+                return Err(EdmdError::invalid(
+                    "masses",
+                    bad,
+                    "every mass must be positive",
                 ));
             }
         }
@@ -204,10 +223,13 @@ impl<const D: usize> InitParams<D> {
         } else {
             random_positions::<D, B>(&radii, &self.box_len, phi, &mut rng)?
         };
-        let masses: Vec<f64> = radii
-            .iter()
-            .map(|&r| self.mass * (r / self.radius).powi(D as i32))
-            .collect();
+        let masses: Vec<f64> = match &self.masses {
+            Some(m) => m.clone(),
+            None => radii
+                .iter()
+                .map(|&r| self.mass * (r / self.radius).powi(D as i32))
+                .collect(),
+        };
         let velocities = draw_velocities::<D>(&masses, self.velocities, self.temperature, &mut rng);
         let particles: Vec<ParticleInit<D>> = (positions.into_iter().zip(velocities))
             .zip(radii.into_iter().zip(masses))

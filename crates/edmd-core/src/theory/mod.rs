@@ -3,6 +3,13 @@
 
 use std::f64::consts::PI;
 
+mod mixture;
+mod rough;
+pub use mixture::{
+    cooling_rates, pair_correlation, temperature_ratios, Component, PairCorrelation,
+};
+pub use rough::RoughCooling;
+
 /// Henderson (1975): χ = (1 − 7φ/16)/(1 − φ)² for hard disks (reliable for φ ≤ 0.35).
 pub fn chi_henderson(phi: f64) -> f64 {
     (1.0 - 7.0 * phi / 16.0) / (1.0 - phi).powi(2)
