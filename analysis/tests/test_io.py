@@ -140,3 +140,38 @@ def test_rough_grains_read_back_spin_and_rotational_temperature(tmp_path, dim, w
 def test_smooth_grains_have_no_spin(sweep):
     assert ea.read_snapshots(sweep / "replicas" / "r00000.h5").angular_velocity is None
     assert "rotational_temperature" not in ea.read_replica(sweep / "replicas" / "r00000.h5").observables
+
+
+def test_mixtures_read_back_species_and_their_temperatures(tmp_path):
+    """A binary mixture: read_snapshots gives each grain's species, read_replica the species
+    temperatures (s, S), which the stored velocities reproduce; pyh5md opens the fixed and the
+    time-dependent elements."""
+    from conftest import run_edmd
+
+    spec = {
+        "name": "mix",
+        "grid": {"eps": 0.9, "phi": 0.1, "n": 300,
+                 "species": [{"fraction": 0.5, "diameter": 1}, {"fraction": 0.5, "diameter": 1.4, "mass": 3}]},
+        "stop": {"tau_max": 5}, "snapshots": {"at": [0]},
+    }
+    (tmp_path / "s.json").write_text(json.dumps(spec))
+    run_edmd("run", tmp_path / "s.json", "-o", tmp_path / "out", "-q")
+    path = tmp_path / "out" / "replicas" / "r00000.h5"
+    snaps = ea.read_snapshots(path)
+    assert np.bincount(snaps.species).tolist() == [150, 150]
+    np.testing.assert_array_equal(snaps.mass, np.where(snaps.species == 0, 1.0, 3.0))
+    np.testing.assert_array_equal(2 * snaps.radius, np.where(snaps.species == 0, 1.0, 1.4))
+    rep = ea.read_replica(path)
+    ts = rep.observables["species_temperature"]
+    assert ts.shape == (len(rep.observables["temperature"]), 2)
+    v2 = (snaps.velocity[-1] ** 2).sum(axis=1) * snaps.mass
+    for k in range(2):
+        np.testing.assert_allclose(v2[snaps.species == k].sum() / (2 * 150), ts[-1, k], rtol=1e-9)
+    theory = np.asarray(rep.params["species_temperature_theory"], dtype=float)
+    assert theory.shape == (2,) and theory[0] < 1 < theory[1]
+    pyh5md = pytest.importorskip("pyh5md")
+    with pyh5md.File(path, "r") as f:
+        gas = f.particles_group("gas")
+        np.testing.assert_array_equal(gas["species"][()], snaps.species)
+        el = pyh5md.element(f["observables"], "species_temperature")
+        assert el.value.shape == ts.shape

@@ -180,6 +180,8 @@ class Snapshots:
     mass: np.ndarray
     # Angular velocities of rough grains, (k, N, 1) in 2D or (k, N, 3) in 3D; None for smooth grains.
     angular_velocity: np.ndarray | None = None
+    # Species index of each grain of a mixture, (N,); zeros for one species.
+    species: np.ndarray | None = None
 
 
 def read_snapshots(path) -> Snapshots:
@@ -203,4 +205,5 @@ def read_snapshots(path) -> Snapshots:
             radius=gas["radius"][()],
             mass=gas["mass"][()],
             angular_velocity=gas["angular_velocity/value"][()] if "angular_velocity" in gas else None,
+            species=gas["species"][()] if "species" in gas else np.zeros(n, dtype=np.int64),
         )

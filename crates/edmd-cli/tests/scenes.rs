@@ -1,4 +1,5 @@
-//! End-to-end tests of scenes beyond the smooth monodisperse gas, run from a spec: rough grains.
+//! End-to-end tests of scenes beyond the smooth monodisperse gas, run from a spec: rough grains and
+//! mixtures.
 
 mod common;
 
@@ -93,4 +94,106 @@ fn rough_elastic_grains_conserve_translational_plus_rotational_energy() {
         assert!(!file.link_exists("particles/gas/angular_velocity"));
         std::fs::remove_dir_all(&out).unwrap();
     }
+}
+
+/// A mixture from a spec (an axis of two mixtures, 3 species in one, a given mass in the other):
+/// N is split by the fractions (largest remainders), species k takes its diameter and its mass
+/// (σ^D by default), φ counts every species, and `species_temperature` is Σ_{a∈k} m v²/(d N_k) of the
+/// stored velocities, whose N-weighted mean is the temperature. The phase table names the mixtures.
+#[test]
+fn mixtures_from_a_spec() {
+    let tmp = tempfile::tempdir().unwrap();
+    let spec = r#"{"name": "mix", "grid": {"dim": [2, 3], "eps": 0.9, "phi": 0.1, "n": 301,
+        "species": [[{"fraction": 0.5, "diameter": 1}, {"fraction": 0.3, "diameter": 1.4},
+                     {"fraction": 0.2, "diameter": 0.7}],
+                    [{"fraction": 0.25, "diameter": 1, "mass": 8}, {"fraction": 0.75, "diameter": 1}]]},
+        "stop": {"tau_max": 6}, "samples": {"every": 2, "per_decade": 0}, "snapshots": {"at": [4]}}"#;
+    let p = write(tmp.path(), "mix.json", spec);
+    let out = tmp.path().join("out");
+    let o = run(&[
+        "run",
+        p.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "-q",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    // (fraction, diameter, mass if given) per species.
+    type Mixture<'a> = &'a [(f64, f64, Option<f64>)];
+    let cases: [(usize, Mixture); 4] = [
+        (2, &[(0.5, 1.0, None), (0.3, 1.4, None), (0.2, 0.7, None)]),
+        (2, &[(0.25, 1.0, Some(8.0)), (0.75, 1.0, None)]),
+        (3, &[(0.5, 1.0, None), (0.3, 1.4, None), (0.2, 0.7, None)]),
+        (3, &[(0.25, 1.0, Some(8.0)), (0.75, 1.0, None)]),
+    ];
+    for (k, (dim, mixture)) in cases.iter().enumerate() {
+        let f = out.join(format!("replicas/r{k:05}.h5"));
+        let file = hdf5::File::open(&f).unwrap();
+        let species = file
+            .dataset("particles/gas/species")
+            .unwrap()
+            .read_raw::<i64>()
+            .unwrap();
+        let (_, diameter) = read(&f, "particles/gas/diameter");
+        let (_, mass) = read(&f, "particles/gas/mass");
+        let n = species.len();
+        assert_eq!(n, 301);
+        // 301 × (0.5, 0.3, 0.2) = 150.5, 90.3, 60.2 → 151, 90, 60; 301 × (0.25, 0.75) → 75, 226.
+        let expect: Vec<usize> = if mixture.len() == 3 {
+            vec![151, 90, 60]
+        } else {
+            vec![75, 226]
+        };
+        let mut volume = 0.0;
+        for (s, &(_, sigma, m)) in mixture.iter().enumerate() {
+            let members: Vec<usize> = (0..n).filter(|&a| species[a] == s as i64).collect();
+            assert_eq!(members.len(), expect[s], "species {s} of replica {k}");
+            let m = m.unwrap_or(sigma.powi(*dim as i32));
+            for &a in &members {
+                assert_eq!(diameter[a], sigma);
+                assert!((mass[a] / m - 1.0).abs() < 1e-12);
+            }
+            let unit = if *dim == 2 {
+                std::f64::consts::PI / 4.0
+            } else {
+                std::f64::consts::PI / 6.0
+            };
+            volume += members.len() as f64 * unit * sigma.powi(*dim as i32);
+        }
+        let (_, edges) = read(&f, "particles/gas/box/edges");
+        let phi = volume / edges.iter().product::<f64>();
+        assert!((phi / 0.1 - 1.0).abs() < 1e-9, "phi {phi}");
+        // The snapshot at τ = 4 gives back that sample's species temperatures.
+        let (shape, ts) = read(&f, "observables/species_temperature/value");
+        assert_eq!(shape[1], mixture.len());
+        let (_, tau) = read(&f, "observables/tau/value");
+        let (_, t) = read(&f, "observables/temperature/value");
+        let row = tau.iter().position(|&x| (x - 4.0).abs() < 0.01).unwrap();
+        let (_, v) = read(&f, "particles/gas/velocity/value");
+        let mut e = vec![0.0; mixture.len()];
+        let mut c = vec![0usize; mixture.len()];
+        for a in 0..n {
+            let s = species[a] as usize;
+            let v2: f64 = v[a * dim..(a + 1) * dim].iter().map(|x| x * x).sum();
+            e[s] += mass[a] * v2;
+            c[s] += 1;
+        }
+        let mut mean = 0.0;
+        for s in 0..mixture.len() {
+            let from_snapshot = e[s] / (*dim as f64 * c[s] as f64);
+            let stored = ts[row * mixture.len() + s];
+            assert!(
+                (from_snapshot / stored - 1.0).abs() < 1e-9,
+                "{from_snapshot} vs {stored}"
+            );
+            mean += c[s] as f64 * stored / n as f64;
+        }
+        assert!((mean / t[row] - 1.0).abs() < 1e-9);
+    }
+    let summary = std::fs::read_to_string(out.join("summary.csv")).unwrap();
+    assert!(
+        summary.contains("0.5:1:1+0.3:1.4:1.96+0.2:0.7:0.49"),
+        "{summary}"
+    );
+    assert!(summary.contains("0.25:1:8+0.75:1:1"), "{summary}");
 }

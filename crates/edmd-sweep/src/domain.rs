@@ -163,6 +163,32 @@ pub const INERTIA: Domain = Domain::new(
     false,
     "moment-of-inertia factor must lie in (0, 1] (1/2: uniform disk, 2/5: uniform sphere)",
 );
+/// Species of one mixture, at most.
+pub const MAX_SPECIES: usize = 64;
+/// Number fractions of a species.
+pub const FRACTION: Domain = Domain::new(
+    0.0,
+    true,
+    1.0,
+    false,
+    "a species' fraction must lie in (0, 1]",
+);
+/// Diameters of a species, in units of the default grain.
+pub const DIAMETER: Domain = Domain::new(
+    0.0,
+    true,
+    100.0,
+    false,
+    "a species' diameter must lie in (0, 100]",
+);
+/// Masses of a species.
+pub const MASS: Domain = Domain::new(
+    0.0,
+    true,
+    1e12,
+    false,
+    "a species' mass must lie in (0, 1e12]",
+);
 /// Packing fractions: the schema bound is the densest (2D) packing; `check` uses the one of D.
 pub const PHI: Domain = Domain::open(0.0, 0.9069, "packing fraction must lie below close packing");
 /// Box sides: positive, and at most 10^6 diameters (N = 10^7 disks at φ = 0.3 fill a box of 5100;
@@ -234,6 +260,9 @@ schema_fns! {
     eps_axis => RESTITUTION.axis,
     beta_axis => BETA.axis,
     inertia_optional => INERTIA.optional,
+    fraction_one => FRACTION.one,
+    diameter_one => DIAMETER.one,
+    mass_optional => MASS.optional,
     phi_axis => PHI.optional_axis,
     box_axis => BOX.optional_axis,
     n_axis => N.optional_axis,

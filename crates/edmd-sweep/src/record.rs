@@ -162,6 +162,8 @@ record_fields! {
     eps: f64,
     /// Tangential restitution (−1: smooth).
     beta: f64,
+    /// The mixture as `fraction:diameter:mass` per species joined by `+` (empty: one species).
+    species: String,
     /// Packing fraction.
     phi: f64,
     /// Box side.
@@ -212,6 +214,11 @@ impl Record {
             boundary: r.boundary.name().into(),
             eps: r.eps,
             beta: r.beta,
+            species: r
+                .species
+                .as_ref()
+                .map(|m| crate::spec::species_label(m, r.dim))
+                .unwrap_or_default(),
             phi: r.phi(),
             box_side: r.side(),
             n: r.n,
@@ -270,6 +277,7 @@ mod tests {
             boundary: "periodic".into(),
             eps: 0.9,
             beta: -1.0,
+            species: String::new(),
             phi: 0.25,
             box_side: 56.7,
             n: 1024,

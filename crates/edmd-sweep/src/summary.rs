@@ -29,6 +29,8 @@ pub struct PointRow {
     pub eps: f64,
     /// Tangential restitution (−1: smooth).
     pub beta: f64,
+    /// The mixture (`fraction:diameter:mass+…`; empty for one species).
+    pub species: String,
     /// Seeds in the spec.
     pub seeds: usize,
     /// Seeds finished normally.
@@ -99,7 +101,10 @@ pub fn phase_table(spec: &Spec, records: &[Record]) -> Vec<PointRow> {
             let tau_end = median(ran.iter().map(|r| r.tau).collect());
             let ln10 = std::f64::consts::LN_10;
             let log10_t_ratio = median(ran.iter().map(|r| r.ln_temperature_ratio / ln10).collect());
-            let log10_t_haff = if matches!(spec.rule, RuleSpec::Constant {}) && first.beta == -1.0 {
+            let log10_t_haff = if matches!(spec.rule, RuleSpec::Constant {})
+                && first.beta == -1.0
+                && first.species.is_empty()
+            {
                 -haff_rate(first.dim, first.eps) * tau_end / ln10
             } else {
                 f64::NAN
@@ -128,6 +133,7 @@ pub fn phase_table(spec: &Spec, records: &[Record]) -> Vec<PointRow> {
                 box_side: first.box_side,
                 eps: first.eps,
                 beta: first.beta,
+                species: first.species.clone(),
                 seeds: g.len(),
                 done: count(Status::Done),
                 collapsed: count(Status::Collapsed),
@@ -176,7 +182,7 @@ impl FromStr for Format {
     }
 }
 
-const COLUMNS: usize = 23;
+const COLUMNS: usize = 24;
 const HEADER: [&str; COLUMNS] = [
     "D",
     "boundary",
@@ -186,6 +192,7 @@ const HEADER: [&str; COLUMNS] = [
     "L",
     "eps",
     "beta",
+    "species",
     "seeds",
     "done",
     "collapsed",
@@ -220,6 +227,11 @@ fn cells(r: &PointRow) -> [String; COLUMNS] {
         f(r.box_side, 2),
         r.eps.to_string(),
         r.beta.to_string(),
+        if r.species.is_empty() {
+            "-".to_string()
+        } else {
+            r.species.clone()
+        },
         r.seeds.to_string(),
         r.done.to_string(),
         r.collapsed.to_string(),

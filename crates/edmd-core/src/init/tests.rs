@@ -77,3 +77,24 @@ fn bad_parameters_name_the_field() {
     let e = p.build::<Periodic, _>(Elastic).unwrap_err().to_string();
     assert!(e.contains("Lx = 2.5"), "{e}");
 }
+
+/// Unequal masses start at one temperature: each species' m⟨v²⟩/d matches T0 to its statistical
+/// error (√(2/(d N_k)) = 1 % for 10^4 disks each; tolerance 5 %, i.e. 5 standard errors).
+#[test]
+fn unequal_masses_start_in_equipartition() {
+    let n = 20_000;
+    let side = (n as f64 * unit_volume::<2>(0.5) / 0.05).sqrt();
+    let mut p = InitParams::<2>::in_box(n, Vector::<2>::repeat(side));
+    p.masses = Some((0..n).map(|i| if i < n / 2 { 1.0 } else { 4.0 }).collect());
+    p.seed = 5;
+    let sim = p.build::<Periodic, _>(Elastic).unwrap();
+    let (v, m) = (sim.velocities(), sim.masses());
+    let mut e = [0.0; 2];
+    for (i, (v, m)) in v.iter().zip(&m).enumerate() {
+        e[usize::from(i >= n / 2)] += m * v.norm_squared();
+    }
+    for e in e {
+        let t = e / (2.0 * (n / 2) as f64);
+        assert!((t - 1.0).abs() < 0.05, "species temperature {t}");
+    }
+}

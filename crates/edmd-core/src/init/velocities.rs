@@ -7,6 +7,8 @@ use super::Velocities;
 use crate::Vector;
 
 /// Draws velocities, removes the centre-of-mass velocity and scales to temperature `t0` exactly.
+/// Each particle's components have variance ∝ 1/m, so that every mass starts at one temperature
+/// (equipartition); equal masses of 1 are drawn exactly as before masses entered.
 pub fn draw_velocities<const D: usize>(
     masses: &[f64],
     dist: Velocities,
@@ -15,11 +17,12 @@ pub fn draw_velocities<const D: usize>(
 ) -> Vec<Vector<D>> {
     let mut v: Vec<Vector<D>> = masses
         .iter()
-        .map(|_| {
+        .map(|&m| {
+            let scale = 1.0 / m.sqrt();
             Vector::<D>::from_fn(|_, _| match dist {
                 Velocities::Uniform => rng.random::<f64>() * 2.0 - 1.0,
                 Velocities::Maxwell => rng.sample::<f64, _>(StandardNormal),
-            })
+            }) * scale
         })
         .collect();
     let mtot: f64 = masses.iter().sum();

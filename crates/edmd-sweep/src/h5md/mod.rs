@@ -10,7 +10,9 @@
 //! /particles/gas/velocity    step [k], time [k], value [k, N, D]
 //! /particles/gas/angular_velocity  step [k], time [k], value [k, N, 1 (2D) or 3]  (rough grains)
 //! /particles/gas/mass        [N];  /particles/gas/radius [N]
+//! /particles/gas/species     [N] species index; /particles/gas/diameter [N]   (mixtures)
 //! /observables/<name>        step [s], time [s], value [s]   (temperature, ln_temperature, tau, …)
+//! /observables/species_temperature  step [s], time [s], value [s, S]   (mixtures)
 //! /parameters                schema_version, spec (JSON), spec_hash, engine_version, git_commit,
 //!                            replica parameters, seed, status, message and final values as attributes;
 //!                            /parameters/spec holds every spec field as an attribute.
@@ -22,7 +24,7 @@ use hdf5::types::VarLenUnicode;
 use hdf5::{Group, Location};
 
 mod read;
-use ndarray::{Array1, Array3};
+use ndarray::{Array1, Array2, Array3};
 pub use read::{check_file, read_record};
 
 use crate::record::Status;
@@ -252,6 +254,24 @@ fn write_file(file: &hdf5::File, spec: &Spec, r: &Replica, out: &Outcome) -> hdf
     attr_f64(&p, "eps", r.eps)?;
     attr_f64(&p, "beta", r.beta)?;
     attr_f64(&p, "inertia", if r.rough() { r.inertia } else { f64::NAN })?;
+    if let Some(m) = &r.species {
+        // The mixture as JSON (fraction, diameter, mass per species), and Garzó–Dufty's T_k/T.
+        attr_str(
+            &p,
+            "species",
+            &serde_json::to_string(m.as_slice()).unwrap_or_default(),
+        )?;
+        let counts = r.species_counts();
+        p.new_attr::<i64>()
+            .shape(counts.len())
+            .create("species_count")?
+            .write(&counts.iter().map(|&c| c as i64).collect::<Vec<_>>()[..])?;
+        let theory = crate::replica::species_temperature_theory(spec, r);
+        p.new_attr::<f64>()
+            .shape(theory.len())
+            .create("species_temperature_theory")?
+            .write(&theory[..])?;
+    }
     attr_f64(&p, "phi", r.phi())?;
     attr_f64(&p, "box_side", r.side())?;
     attr_i64(&p, "n", r.n as i64)?;
@@ -330,6 +350,15 @@ fn write_file(file: &hdf5::File, spec: &Spec, r: &Replica, out: &Outcome) -> hdf
     gas.new_dataset_builder()
         .with_data(&Array1::from(out.radius.clone()))
         .create("radius")?;
+    if !out.species.is_empty() {
+        gas.new_dataset_builder()
+            .with_data(&Array1::from(out.species.clone()))
+            .create("species")?;
+        let diameter: Vec<f64> = out.radius.iter().map(|r| 2.0 * r).collect();
+        gas.new_dataset_builder()
+            .with_data(&Array1::from(diameter))
+            .create("diameter")?;
+    }
     if !out.snapshots.is_empty() {
         w.trajectory(&gas, "position", &out.snapshots, r.n, d, |s| &s.position)?;
         w.trajectory(&gas, "velocity", &out.snapshots, r.n, d, |s| &s.velocity)?;
@@ -367,6 +396,15 @@ fn write_file(file: &hdf5::File, spec: &Spec, r: &Replica, out: &Outcome) -> hdf
             &s.time,
             &s.rotational_temperature,
         )?;
+    }
+    if !s.species_temperature.is_empty() && s.species_temperature.len() == s.step.len() {
+        let k = s.species_temperature[0].len();
+        let g = obs.create_group("species_temperature")?;
+        w.series_1d(&g, "step", &s.step)?;
+        w.series_1d(&g, "time", &s.time)?;
+        let flat: Vec<f64> = s.species_temperature.iter().flatten().copied().collect();
+        let arr = Array2::from_shape_vec((s.step.len(), k), flat).expect("species shape");
+        g.new_dataset_builder().with_data(&arr).create("value")?;
     }
     let collisions: Vec<f64> = s.step.iter().map(|&c| c as f64).collect();
     w.observable(&obs, "collisions", &s.step, &s.time, &collisions)?;

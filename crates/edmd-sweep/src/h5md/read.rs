@@ -107,6 +107,15 @@ pub fn read_record(path: &Path, spec_hash: &str) -> Result<Record, SweepError> {
             } else {
                 -1.0
             },
+            // One species unless the file names a mixture.
+            species: if p.attr("species").is_ok() {
+                let dim = read_i64(&p, "dim")? as usize;
+                serde_json::from_str::<Vec<crate::spec::Species>>(&read_str(&p, "species")?)
+                    .map(|m| crate::spec::species_label(&m, dim))
+                    .unwrap_or_default()
+            } else {
+                String::new()
+            },
             phi: read_f64(&p, "phi")?,
             box_side: read_f64(&p, "box_side")?,
             n: read_i64(&p, "n")? as usize,

@@ -3,7 +3,7 @@
 
 use std::time::Instant;
 
-use edmd_core::theory::haff_rate;
+use edmd_core::theory::{haff_rate, temperature_ratios, Component, PairCorrelation};
 use edmd_core::{
     Boundary, Channel, CollisionRule, ConstantRestitution, EdmdError, Periodic, RandomRotation,
     Rough, TcModel, ThesisRestitution, ThresholdRestitution, Walls,
@@ -46,6 +46,8 @@ pub struct Series {
     pub haff_temperature: Vec<f64>,
     /// Rotational temperature Σ I ω² / (d_rot N) of rough grains (empty for smooth ones).
     pub rotational_temperature: Vec<f64>,
+    /// Temperatures of the species of a mixture per sample, in species order (empty otherwise).
+    pub species_temperature: Vec<Vec<f64>>,
     /// Order parameters (empty unless the spec has a `classify` section).
     pub order: OrderSeries,
 }
@@ -82,6 +84,8 @@ pub struct Outcome {
     pub radius: Vec<f64>,
     /// Particle masses.
     pub mass: Vec<f64>,
+    /// Species index of each particle of a mixture (empty otherwise).
+    pub species: Vec<i64>,
     /// Initial temperature T0.
     pub t0: f64,
     /// Pair collisions run.
@@ -106,6 +110,7 @@ impl Outcome {
             box_len: Vec::new(),
             radius: Vec::new(),
             mass: Vec::new(),
+            species: Vec::new(),
             t0: f64::NAN,
             collisions: 0,
             collapse: None,
@@ -211,6 +216,29 @@ fn by_roughness<const D: usize, B: Boundary, R: CollisionRule>(
     }
 }
 
+/// Garzó & Dufty's T_k/T of each species of a mixture in the homogeneous cooling state (Maxwellian,
+/// Enskog χ_ij at the replica's φ; PHYSICS.md §2.4), T the mixture's temperature; NaN where it does not
+/// apply (rough grains, or a rule other than constant restitution).
+pub fn species_temperature_theory(spec: &Spec, r: &Replica) -> Vec<f64> {
+    let Some(m) = &r.species else {
+        return Vec::new();
+    };
+    if r.rough() || !matches!(spec.rule, RuleSpec::Constant {}) {
+        return vec![f64::NAN; m.len()];
+    }
+    let counts = r.species_counts();
+    let components: Vec<Component> = m
+        .iter()
+        .zip(&counts)
+        .map(|(s, &c)| Component {
+            fraction: c as f64 / r.n as f64,
+            diameter: s.diameter,
+            mass: s.mass_in(r.dim),
+        })
+        .collect();
+    temperature_ratios(r.dim, r.eps, &components, PairCorrelation::Enskog(r.phi()))
+}
+
 /// What linear theory says about a replica's box (critical sizes halved when any axis has walls).
 pub fn theory(spec: &Spec, r: &Replica) -> Theory {
     let periodic = r.boundary == BoundaryKind::Periodic;
@@ -222,8 +250,10 @@ pub fn theory(spec: &Spec, r: &Replica) -> Theory {
         .unwrap_or(1);
     Theory {
         // Smooth grains only: for rough ones the classifier fits the cooling rate instead.
-        haff_rate: (matches!(spec.rule, RuleSpec::Constant {}) && !r.rough())
-            .then(|| haff_rate(r.dim, r.eps)),
+        haff_rate: (matches!(spec.rule, RuleSpec::Constant {})
+            && !r.rough()
+            && r.species.is_none())
+        .then(|| haff_rate(r.dim, r.eps)),
         l_over_l_perp: r.side() / lp,
         l_over_l_par: r.side() / lq,
         per_cell: r.n as f64 / (grid as f64).powi(r.dim as i32),

@@ -60,12 +60,24 @@ pub(super) fn simulate<const D: usize, B: Boundary, R: CollisionRule>(
         VelocityKind::Uniform => Velocities::Uniform,
     };
     p.melt_tau = spec.init.melt_tau;
+    // A mixture: species k takes the next N_k slots (diameter σ_k, mass m_k); PHYSICS.md §2.4.
+    let species_of: Vec<usize> = r
+        .species_counts()
+        .iter()
+        .enumerate()
+        .flat_map(|(k, &c)| std::iter::repeat_n(k, c))
+        .collect();
+    if let Some(m) = &r.species {
+        p.radii = Some(species_of.iter().map(|&k| 0.5 * m[k].diameter).collect());
+        p.masses = Some(species_of.iter().map(|&k| m[k].mass_in(D)).collect());
+    }
+    let counts = r.species_counts();
     let mut sim: Simulation<D, B, R> = p.build::<B, R>(rule)?;
     let t0 = sim.temperature();
     let n = r.n as f64;
     let volume = sim.box_len().iter().product::<f64>();
-    // Haff's law of smooth grains; rough grains cool by another law (PHYSICS.md §6.5).
-    let haff = matches!(spec.rule, RuleSpec::Constant {}) && !r.rough();
+    // Haff's law of one species of smooth grains; rough grains and mixtures cool by other laws.
+    let haff = matches!(spec.rule, RuleSpec::Constant {}) && !r.rough() && r.species.is_none();
     let grid = spec.classify.as_ref().map(|c| c.grid_for(r.n, D));
     let masses = sim.masses();
     let theory = theory(spec, r);
@@ -120,6 +132,19 @@ pub(super) fn simulate<const D: usize, B: Boundary, R: CollisionRule>(
         series
             .momentum_error
             .push(o.momentum.norm() / o.momentum_scale.max(f64::MIN_POSITIVE));
+        if r.species.is_some() {
+            // T_k = Σ_{a∈k} m v_a² / (d N_k), species in order.
+            let mut e = vec![0.0; counts.len()];
+            for ((v, m), &k) in sim.velocities().iter().zip(&masses).zip(&species_of) {
+                e[k] += m * v.norm_squared();
+            }
+            series.species_temperature.push(
+                e.iter()
+                    .zip(&counts)
+                    .map(|(e, &c)| e / (D as f64 * c as f64))
+                    .collect(),
+            );
+        }
         if R::ROUGH {
             // T_rot = Σ I ω² / (d_rot N) (PHYSICS.md §6.5), beside the translational T.
             series
@@ -274,7 +299,7 @@ pub(super) fn simulate<const D: usize, B: Boundary, R: CollisionRule>(
         ),
         RunEnd::Reached => (Status::Done, String::new(), None),
     };
-    let radius = vec![p.radius; r.n];
+    let radius = p.radii.clone().unwrap_or_else(|| vec![p.radius; r.n]);
     let classification = spec.classify.as_ref().map(|c| match status {
         Status::Done => classify(&series.order, &c.thresholds, &theory),
         Status::Collapsed | Status::Failed | Status::Missing | Status::Corrupt => Classification {
@@ -302,6 +327,11 @@ pub(super) fn simulate<const D: usize, B: Boundary, R: CollisionRule>(
         box_len: sim.box_len().iter().copied().collect(),
         radius,
         mass: sim.masses(),
+        species: if r.species.is_some() {
+            species_of.iter().map(|&k| k as i64).collect()
+        } else {
+            Vec::new()
+        },
         t0,
         collisions: c,
         collapse,

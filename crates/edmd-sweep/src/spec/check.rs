@@ -123,6 +123,60 @@ impl Spec {
         if let Some(q) = g.inertia {
             within("inertia", q, &domain::INERTIA)?;
         }
+        if let Some(axis) = &g.species {
+            let axis_len = axis.0.len();
+            for (k, mixture) in axis.0.iter().enumerate() {
+                let at_k = if axis_len > 1 {
+                    format!("species[{k}]")
+                } else {
+                    "species".into()
+                };
+                if mixture.is_empty() || mixture.len() > domain::MAX_SPECIES {
+                    return bad(
+                        &at_k,
+                        &mixture.len(),
+                        &format!("a mixture needs 1 to {} species", domain::MAX_SPECIES),
+                    );
+                }
+                for (i, sp) in mixture.iter().enumerate() {
+                    within(
+                        &format!("{at_k}[{i}].fraction"),
+                        sp.fraction,
+                        &domain::FRACTION,
+                    )?;
+                    within(
+                        &format!("{at_k}[{i}].diameter"),
+                        sp.diameter,
+                        &domain::DIAMETER,
+                    )?;
+                    if let Some(m) = sp.mass {
+                        within(&format!("{at_k}[{i}].mass"), m, &domain::MASS)?;
+                    }
+                }
+                let total: f64 = mixture.iter().map(|sp| sp.fraction).sum();
+                if (total - 1.0).abs() > 1e-9 {
+                    return bad(
+                        &format!("{at_k}[*].fraction"),
+                        &format!("{total}"),
+                        "the fractions of a mixture must sum to 1",
+                    );
+                }
+            }
+            if axis.0.windows(2).any(|w| w[0] == w[1]) || {
+                let mut seen = Vec::new();
+                axis.0.iter().any(|m| {
+                    let dup = seen.contains(&m);
+                    seen.push(m);
+                    dup
+                })
+            } {
+                return bad(
+                    "species",
+                    &"[…]",
+                    "a mixture appears twice (grid points must differ)",
+                );
+            }
+        }
         match (&g.n, g.phi.is_some() && g.box_len.is_some()) {
             (Some(_), true) => {
                 return bad(
@@ -351,6 +405,7 @@ fn grid_size(g: &Grid) -> f64 {
         g.remedy.values().len(),
         g.eps.values().len(),
         g.beta.values().len(),
+        g.species.as_ref().map_or(1, |a| a.0.len()),
     ];
     axes.iter().map(|&a| a as f64).product::<f64>() * density_pairs(g) * g.seeds as f64
 }
@@ -389,6 +444,32 @@ pub(crate) fn check_replica(spec: &Spec, r: &Replica) -> Result<(), SweepError> 
         return Err(SweepError::Spec(format!(
             "{r}: box side L = {side:.3} is below 3 particle diameters (the smallest cell list); raise N or lower phi"
         )));
+    }
+    if let Some(mixture) = &r.species {
+        let counts = r.species_counts();
+        for (k, (sp, &c)) in mixture.iter().zip(&counts).enumerate() {
+            if c == 0 {
+                return Err(SweepError::Spec(format!(
+                    "{r}: species {k} (fraction {}) has no particle at N = {}; raise N or the fraction",
+                    sp.fraction, r.n
+                )));
+            }
+            if !(sp.diameter < side / 3.0) {
+                return Err(SweepError::Spec(format!(
+                    "{r}: species {k} has diameter {} ≥ box/3 = {:.3}; a grain must be below a third of the box",
+                    sp.diameter,
+                    side / 3.0
+                )));
+            }
+        }
+        let random_limit = if r.dim == 2 { 0.4 } else { 0.25 };
+        if r.phi() > random_limit {
+            return Err(SweepError::Spec(format!(
+                "{r}: a mixture starts from random placement, which reaches phi = {random_limit} in {}D; phi = {:.4} is above it",
+                r.dim,
+                r.phi()
+            )));
+        }
     }
     let phi = r.phi();
     if !(phi < close_packing(r.dim)) {

@@ -2,6 +2,7 @@
 
 use std::fmt;
 
+use super::species::{self, Mixture};
 use super::{BoundaryKind, Grid, Remedy, Spec};
 use crate::SweepError;
 
@@ -29,6 +30,8 @@ pub struct Replica {
     pub beta: f64,
     /// Moment-of-inertia factor q (I = q m (σ/2)²) of rough grains.
     pub inertia: f64,
+    /// The species of a mixture (`None`: one species, σ = 1, m = 1).
+    pub species: Option<Mixture>,
     /// Box as given.
     pub density: Density,
     /// Particle number.
@@ -51,9 +54,7 @@ impl Replica {
     pub fn side(&self) -> f64 {
         match self.density {
             Density::Side(l) => l,
-            Density::Phi(phi) => {
-                (self.n as f64 * ball_volume(self.dim) / phi).powf(1.0 / self.dim as f64)
-            }
+            Density::Phi(phi) => (self.grain_volume() / phi).powf(1.0 / self.dim as f64),
         }
     }
 
@@ -61,7 +62,37 @@ impl Replica {
     pub fn phi(&self) -> f64 {
         match self.density {
             Density::Phi(phi) => phi,
-            Density::Side(l) => self.n as f64 * ball_volume(self.dim) / l.powi(self.dim as i32),
+            Density::Side(l) => self.grain_volume() / l.powi(self.dim as i32),
+        }
+    }
+
+    /// The volume of all grains: N v₁ for one species, Σ N_k v(σ_k) for a mixture.
+    pub fn grain_volume(&self) -> f64 {
+        match &self.species {
+            None => self.n as f64 * ball_volume(self.dim),
+            Some(m) => species::counts(m, self.n)
+                .iter()
+                .zip(m.iter())
+                .map(|(&c, s)| {
+                    c as f64 * edmd_core::geometry::ball_volume(self.dim, 0.5 * s.diameter)
+                })
+                .sum(),
+        }
+    }
+
+    /// Particles per species (one entry, N, without a mixture).
+    pub fn species_counts(&self) -> Vec<usize> {
+        match &self.species {
+            None => vec![self.n],
+            Some(m) => species::counts(m, self.n),
+        }
+    }
+
+    /// `""` without a mixture, `, species=0.5:1:1+0.5:1.4:1.96` with one.
+    pub fn species_label(&self) -> String {
+        match &self.species {
+            None => String::new(),
+            Some(m) => format!(", species={}", species::label(m, self.dim)),
         }
     }
 
@@ -73,14 +104,15 @@ impl Replica {
     /// The grid point (every parameter but the seed) as a key for grouping.
     pub fn point_key(&self) -> String {
         format!(
-            "{}|{}|{}|{}|{}|{}{}",
+            "{}|{}|{}|{}|{}|{}{}{}",
             self.dim,
             self.boundary.name(),
             self.eps,
             self.density_label(),
             self.n,
             self.remedy.label(),
-            self.rough_label()
+            self.rough_label(),
+            self.species_label()
         )
     }
 
@@ -110,12 +142,13 @@ impl fmt::Display for Replica {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(
             f,
-            "replica {} (D={}, {}, eps={}{}, {}, N={}, seed #{}, remedy {})",
+            "replica {} (D={}, {}, eps={}{}{}, {}, N={}, seed #{}, remedy {})",
             self.index,
             self.dim,
             self.boundary.name(),
             self.eps,
             self.rough_label(),
+            self.species_label(),
             self.density_label(),
             self.n,
             self.seed_index,
@@ -150,8 +183,8 @@ pub fn stable_hash(bytes: &[u8]) -> u64 {
 }
 
 impl Spec {
-    /// The replicas in expansion order: grid by grid; within a grid dim, boundary, remedy, n, density,
-    /// eps, beta, seed (seed fastest).
+    /// The replicas in expansion order: grid by grid; within a grid dim, species, boundary, remedy, n,
+    /// density, eps, beta, seed (seed fastest).
     pub fn replicas(&self) -> Vec<Replica> {
         let mut out = Vec::new();
         for g in self.grid.values() {
@@ -164,49 +197,66 @@ impl Spec {
         let ns = g.n.as_ref().map(|n| n.values()).unwrap_or_default();
         let phis = g.phi.as_ref().map(|p| p.values()).unwrap_or_default();
         let sides = g.box_len.as_ref().map(|l| l.values()).unwrap_or_default();
+        let mixtures: Vec<Option<Mixture>> = match &g.species {
+            None => vec![None],
+            Some(axis) => axis.0.iter().cloned().map(Some).collect(),
+        };
         for dim in g.dim.values() {
-            let inertia = g.inertia.unwrap_or(if dim == 2 { 0.5 } else { 0.4 });
-            // (N, box) pairs: N × φ, N × L, or N = round(φ L^D / v₁) for φ × L.
-            let pairs: Vec<(usize, Density)> = match (phis.is_empty(), sides.is_empty()) {
-                (false, true) => ns
-                    .iter()
-                    .flat_map(|&n| phis.iter().map(move |&p| (n, Density::Phi(p))))
-                    .collect(),
-                (true, false) => ns
-                    .iter()
-                    .flat_map(|&n| sides.iter().map(move |&l| (n, Density::Side(l))))
-                    .collect(),
-                _ => phis
-                    .iter()
-                    .flat_map(|&p| {
-                        sides.iter().map(move |&l| {
-                            let n = (p * l.powi(dim as i32) / ball_volume(dim)).round();
-                            ((n as usize).max(2), Density::Side(l))
+            for mixture in &mixtures {
+                let inertia = g.inertia.unwrap_or(if dim == 2 { 0.5 } else { 0.4 });
+                // The mean grain volume: v₁ for one species, Σ x_k v(σ_k) for a mixture.
+                let v_mean = match mixture {
+                    None => ball_volume(dim),
+                    Some(m) => m
+                        .iter()
+                        .map(|s| {
+                            s.fraction * edmd_core::geometry::ball_volume(dim, 0.5 * s.diameter)
                         })
-                    })
-                    .collect(),
-            };
-            for boundary in g.boundary.values() {
-                for remedy in g.remedy.values() {
-                    for &(n, density) in &pairs {
-                        for eps in g.eps.values() {
-                            for beta in g.beta.values() {
-                                for seed_index in 0..g.seeds {
-                                    let mut r = Replica {
-                                        index: out.len(),
-                                        dim,
-                                        boundary,
-                                        eps,
-                                        beta,
-                                        inertia,
-                                        density,
-                                        n,
-                                        seed_index,
-                                        remedy,
-                                        seed: 0,
-                                    };
-                                    r.seed = self.replica_seed(&r);
-                                    out.push(r);
+                        .sum(),
+                };
+                // (N, box) pairs: N × φ, N × L, or N = round(φ L^D / v₁) for φ × L.
+                let pairs: Vec<(usize, Density)> = match (phis.is_empty(), sides.is_empty()) {
+                    (false, true) => ns
+                        .iter()
+                        .flat_map(|&n| phis.iter().map(move |&p| (n, Density::Phi(p))))
+                        .collect(),
+                    (true, false) => ns
+                        .iter()
+                        .flat_map(|&n| sides.iter().map(move |&l| (n, Density::Side(l))))
+                        .collect(),
+                    _ => phis
+                        .iter()
+                        .flat_map(|&p| {
+                            sides.iter().map(move |&l| {
+                                let n = (p * l.powi(dim as i32) / v_mean).round();
+                                ((n as usize).max(2), Density::Side(l))
+                            })
+                        })
+                        .collect(),
+                };
+                for boundary in g.boundary.values() {
+                    for remedy in g.remedy.values() {
+                        for &(n, density) in &pairs {
+                            for eps in g.eps.values() {
+                                for beta in g.beta.values() {
+                                    for seed_index in 0..g.seeds {
+                                        let mut r = Replica {
+                                            index: out.len(),
+                                            dim,
+                                            boundary,
+                                            eps,
+                                            beta,
+                                            inertia,
+                                            species: mixture.clone(),
+                                            density,
+                                            n,
+                                            seed_index,
+                                            remedy,
+                                            seed: 0,
+                                        };
+                                        r.seed = self.replica_seed(&r);
+                                        out.push(r);
+                                    }
                                 }
                             }
                         }
@@ -222,13 +272,14 @@ impl Spec {
     /// comparisons across ε. It does not depend on the replica's index, the thread count or the shard.
     pub fn replica_seed(&self, r: &Replica) -> u64 {
         let key = format!(
-            "{}|{}|{}|{}|{}|{}",
+            "{}|{}|{}|{}|{}|{}{}",
             self.seed,
             r.dim,
             r.boundary.name(),
             r.density_label(),
             r.n,
-            r.seed_index
+            r.seed_index,
+            r.species_label()
         );
         stable_hash(key.as_bytes())
     }

@@ -13,11 +13,13 @@ use crate::SweepError;
 mod check;
 mod expand;
 mod one_or_many;
+mod species;
 
 pub use crate::domain::{MAX_REPLICAS, MAX_SAMPLES};
 pub use check::viscoelastic;
 pub use expand::{ball_volume, close_packing, stable_hash, Density, Replica, Shard};
 pub use one_or_many::OneOrMany;
+pub use species::{label as species_label, Mixture, Species, SpeciesAxis};
 
 /// The largest spec file read (1 MiB): a spec is a few hundred bytes; this bounds what a wrong path
 /// (`/dev/zero`, a trajectory file) can make the reader allocate.
@@ -348,6 +350,11 @@ pub struct Grid {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schemars(schema_with = "domain::inertia_optional")]
     pub inertia: Option<f64>,
+    /// Species of a mixture, `[{"fraction": x, "diameter": σ, "mass": m}, …]` (mass default σ^D),
+    /// or a list of such mixtures (an axis); default one species of diameter 1 and mass 1. φ counts
+    /// every species; N is split by the fractions.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub species: Option<SpeciesAxis>,
 }
 
 fn default_dim() -> OneOrMany<usize> {

@@ -1,0 +1,211 @@
+//! `grid.species`: the grains of a mixture, one mixture or a list of them (an axis).
+
+use std::borrow::Cow;
+use std::sync::Arc;
+
+use schemars::{json_schema, JsonSchema, Schema, SchemaGenerator};
+use serde::{Deserialize, Serialize};
+
+/// One species of a mixture.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Species {
+    /// Number fraction, in (0, 1]; the fractions of a mixture sum to 1.
+    #[schemars(schema_with = "crate::domain::fraction_one")]
+    pub fraction: f64,
+    /// Diameter σ in units of the default grain (σ = 1).
+    #[schemars(schema_with = "crate::domain::diameter_one")]
+    pub diameter: f64,
+    /// Mass (default σ^D: every species of one material).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(schema_with = "crate::domain::mass_optional")]
+    pub mass: Option<f64>,
+}
+
+impl Species {
+    /// The mass of a grain, σ^D unless given.
+    pub fn mass_in(&self, dim: usize) -> f64 {
+        self.mass.unwrap_or(self.diameter.powi(dim as i32))
+    }
+}
+
+/// A mixture: its species in order (species k of the files is the k-th here).
+pub type Mixture = Arc<Vec<Species>>;
+
+/// One mixture (`[{…}, {…}]`) or several (`[[{…}, {…}], [{…}]]`), an axis of the grid.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SpeciesAxis(pub Vec<Mixture>);
+
+impl Serialize for SpeciesAxis {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        match self.0.as_slice() {
+            [one] => one.as_slice().serialize(s),
+            many => many
+                .iter()
+                .map(|m| m.as_slice())
+                .collect::<Vec<_>>()
+                .serialize(s),
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for SpeciesAxis {
+    fn deserialize<De: serde::Deserializer<'de>>(d: De) -> Result<Self, De::Error> {
+        use serde::de::Error;
+        let v = serde_json::Value::deserialize(d)?;
+        let nested = matches!(&v, serde_json::Value::Array(items) if items.first().is_some_and(|x| x.is_array()));
+        let parse = |v: serde_json::Value, at: String| {
+            serde_path_to_error::deserialize::<_, Vec<Species>>(v)
+                .map(Arc::new)
+                .map_err(|e| {
+                    let path = e.path().to_string();
+                    De::Error::custom(
+                        format!(
+                            "{}{}{}{}",
+                            super::one_or_many::PATH_MARK,
+                            at,
+                            if path == "." { String::new() } else { path },
+                            super::one_or_many::PATH_MARK
+                        ) + &strip_position(&e.into_inner().to_string()),
+                    )
+                })
+        };
+        if nested {
+            let serde_json::Value::Array(items) = v else {
+                unreachable!()
+            };
+            items
+                .into_iter()
+                .enumerate()
+                .map(|(i, m)| parse(m, format!("[{i}]")))
+                .collect::<Result<Vec<_>, _>>()
+                .map(SpeciesAxis)
+        } else {
+            parse(v, String::new()).map(|m| SpeciesAxis(vec![m]))
+        }
+    }
+}
+
+fn strip_position(message: &str) -> String {
+    match message.rfind(" at line ") {
+        Some(k) if message[k..].contains(" column ") => message[..k].to_string(),
+        _ => message.to_string(),
+    }
+}
+
+impl JsonSchema for SpeciesAxis {
+    fn schema_name() -> Cow<'static, str> {
+        "SpeciesAxis".into()
+    }
+
+    fn json_schema(generator: &mut SchemaGenerator) -> Schema {
+        let species = generator.subschema_for::<Species>();
+        let mixture = json_schema!({ "type": "array", "items": species, "minItems": 1 });
+        json_schema!({
+            "description": "One mixture (a list of species) or a list of mixtures (an axis).",
+            "oneOf": [mixture, { "type": "array", "items": mixture, "minItems": 1 }]
+        })
+    }
+}
+
+/// Particles per species of a mixture of `n` grains: ⌊x_k N⌋ each, the remainder given one by one
+/// to the largest fractional parts (the earlier species on ties), so that the split is deterministic
+/// and sums to N.
+pub fn counts(mixture: &[Species], n: usize) -> Vec<usize> {
+    let exact: Vec<f64> = mixture.iter().map(|s| s.fraction * n as f64).collect();
+    let mut out: Vec<usize> = exact.iter().map(|x| x.floor() as usize).collect();
+    let mut left = n.saturating_sub(out.iter().sum());
+    let mut order: Vec<usize> = (0..mixture.len()).collect();
+    order.sort_by(|&a, &b| {
+        (exact[b] - exact[b].floor())
+            .total_cmp(&(exact[a] - exact[a].floor()))
+            .then(a.cmp(&b))
+    });
+    for &k in order.iter().cycle() {
+        if left == 0 {
+            break;
+        }
+        out[k] += 1;
+        left -= 1;
+    }
+    out
+}
+
+/// `0.5:1:1+0.5:1.4:1.96` (fraction:diameter:mass per species), the label of a mixture in tables.
+pub fn label(mixture: &[Species], dim: usize) -> String {
+    mixture
+        .iter()
+        .map(|s| {
+            format!(
+                "{}:{}:{}",
+                short(s.fraction),
+                short(s.diameter),
+                short(s.mass_in(dim))
+            )
+        })
+        .collect::<Vec<_>>()
+        .join("+")
+}
+
+/// A number with at most 9 significant digits (σ^D of 1.4 is 1.9599999999999997 in binary).
+fn short(x: f64) -> String {
+    let s = format!("{:.9e}", x);
+    s.parse::<f64>().map(|v| v.to_string()).unwrap_or(s)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn s(fraction: f64) -> Species {
+        Species {
+            fraction,
+            diameter: 1.0,
+            mass: None,
+        }
+    }
+
+    #[test]
+    fn labels_are_short() {
+        let m = [
+            s(0.5),
+            Species {
+                fraction: 0.5,
+                diameter: 1.4,
+                mass: None,
+            },
+        ];
+        assert_eq!(label(&m, 2), "0.5:1:1+0.5:1.4:1.96");
+    }
+
+    #[test]
+    fn counts_sum_to_n() {
+        assert_eq!(counts(&[s(0.5), s(0.5)], 7), vec![4, 3]);
+        assert_eq!(counts(&[s(0.2), s(0.3), s(0.5)], 10), vec![2, 3, 5]);
+        assert_eq!(
+            counts(&[s(1.0 / 3.0), s(1.0 / 3.0), s(1.0 / 3.0)], 100),
+            vec![34, 33, 33]
+        );
+        assert_eq!(counts(&[s(0.999), s(0.001)], 100), vec![100, 0]);
+    }
+
+    #[test]
+    fn one_mixture_or_an_axis() {
+        let one: SpeciesAxis = serde_json::from_str(
+            r#"[{"fraction": 0.5, "diameter": 1}, {"fraction": 0.5, "diameter": 1.4, "mass": 2}]"#,
+        )
+        .unwrap();
+        assert_eq!(one.0.len(), 1);
+        assert_eq!(one.0[0][1].mass, Some(2.0));
+        let back = serde_json::to_string(&one).unwrap();
+        assert!(back.starts_with("[{"), "{back}");
+        let axis: SpeciesAxis = serde_json::from_str(
+            r#"[[{"fraction": 1, "diameter": 1}], [{"fraction": 1, "diameter": 2}]]"#,
+        )
+        .unwrap();
+        assert_eq!(axis.0.len(), 2);
+        let err =
+            serde_json::from_str::<SpeciesAxis>(r#"[{"fraction": 1, "diam": 1}]"#).unwrap_err();
+        assert!(err.to_string().contains("unknown field `diam`"), "{err}");
+    }
+}
