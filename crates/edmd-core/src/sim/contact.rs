@@ -89,9 +89,13 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         } else {
             0.0
         };
-        let p = &mut self.particles[i];
         // Normal speed at contact (the stored velocity is the one at local time 0 under gravity).
-        let u = p.vel[axis] - gravity * now;
+        let u = self.particles[i].vel[axis] - gravity * now;
+        if self.params.floor_temperature > 0.0 && axis == D - 1 && u < 0.0 {
+            self.thermal_floor(i, gravity);
+            return;
+        }
+        let p = &mut self.particles[i];
         let e = if u.abs() < self.params.wall_threshold {
             1.0
         } else {
@@ -101,6 +105,30 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         // Keep the position continuous: r0 + v t is the non-gravitational part of the trajectory.
         p.r0[axis] += (p.vel[axis] - v_new) * now;
         p.vel[axis] = v_new;
+        self.meta[i].counter = self.meta[i].counter.wrapping_add(1);
+        self.counters.wall_collisions += 1;
+    }
+
+    /// The thermal floor: particle `i`, hitting the wall at 0 of the last axis, leaves with a velocity
+    /// drawn from the wall's flux-weighted Maxwellian at `floor_temperature` (in simulated units, so
+    /// scaled like every velocity): normal speed √(−2 (T/m) ln U), Rayleigh-distributed, away from
+    /// the wall; tangential components Gaussian of variance T/m.
+    #[cold]
+    fn thermal_floor(&mut self, i: usize, gravity: f64) {
+        use rand::Rng;
+        let now = self.now;
+        let sd = (self.params.floor_temperature / self.meta[i].mass).sqrt() * self.scale;
+        let mut v_new = Vector::<D>::zeros();
+        for a in 0..D - 1 {
+            v_new[a] = sd * self.rng.sample::<f64, _>(rand_distr::StandardNormal);
+        }
+        // 1 − U lies in (0, 1]: the logarithm is finite.
+        let u: f64 = 1.0 - self.rng.random::<f64>();
+        v_new[D - 1] = sd * (-2.0 * u.ln()).sqrt() + gravity * now;
+        let p = &mut self.particles[i];
+        // Keep the position continuous on every axis.
+        p.r0 += (p.vel - v_new) * now;
+        p.vel = v_new;
         self.meta[i].counter = self.meta[i].counter.wrapping_add(1);
         self.counters.wall_collisions += 1;
     }

@@ -208,6 +208,13 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                 "this scene has no gravity: use a GravityAxes scene",
             ));
         }
+        if params.floor_temperature > 0.0 && !B::is_wall(D - 1) {
+            return Err(EdmdError::invalid(
+                "floor_temperature",
+                params.floor_temperature,
+                "a thermal floor needs walls on the last axis",
+            ));
+        }
         if B::GRAVITY && !B::is_wall(D - 1) {
             return Err(EdmdError::invalid(
                 "scene",

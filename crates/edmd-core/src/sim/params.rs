@@ -30,6 +30,11 @@ pub struct SimParams {
     /// many collisions to move `δ/2`; ignored under gravity and where the box holds fewer than three
     /// cells of side `σ + δ`.
     pub neighbour_skin: f64,
+    /// A thermal floor (0, the default, for none): the wall at 0 of the last axis re-emits every
+    /// grain that hits it with a velocity drawn from its flux-weighted Maxwellian at this temperature
+    /// (normal speed Rayleigh-distributed, tangential components Gaussian; spins kept). Needs walls on
+    /// the last axis; it replaces that wall's restitution.
+    pub floor_temperature: f64,
 }
 
 impl Default for SimParams {
@@ -43,6 +48,7 @@ impl Default for SimParams {
             gravity: 0.0,
             wall_threshold: 0.0,
             neighbour_skin: 0.0,
+            floor_temperature: 0.0,
         }
     }
 }
@@ -50,7 +56,13 @@ impl Default for SimParams {
 impl SimParams {
     /// Checks every field against its domain; the error names the field and the value.
     pub fn validate(&self) -> Result<(), EdmdError> {
-        let checks: [(&'static str, f64, bool, &str); 7] = [
+        let checks: [(&'static str, f64, bool, &str); 8] = [
+            (
+                "floor_temperature",
+                self.floor_temperature,
+                self.floor_temperature >= 0.0 && self.floor_temperature.is_finite(),
+                "must be ≥ 0 and finite (0: no thermal floor)",
+            ),
             (
                 "cell_factor",
                 self.cell_factor,

@@ -3,7 +3,9 @@
 
 use std::f64::consts::PI;
 
+mod gravity;
 mod mixture;
+pub use gravity::{barometric_floor, barometric_profile};
 mod rough;
 pub use mixture::{
     cooling_rates, pair_correlation, temperature_ratios, Component, PairCorrelation,
