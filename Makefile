@@ -18,7 +18,7 @@ PYTHON ?= python3
 VENV := .venv
 APT_PACKAGES := libhdf5-dev hdf5-tools pkg-config
 
-.PHONY: all deps build run figures demo cli check test test-rust test-python lint bench bench-smoke bench-nightly bench-accuracy stress test-slurm validate clean
+.PHONY: all deps build run figures demo cli check test test-rust test-bin test-python lint bench bench-smoke bench-nightly bench-accuracy stress test-slurm validate clean
 
 all: build
 
@@ -68,8 +68,16 @@ check:
 test-rust:
 	$(CARGO) test --workspace
 
-test-python: cli
-	EDMD_BIN=$(CURDIR)/target/release/edmd $(VENV)/bin/python -m pytest -q analysis
+# The Python and Slurm tests drive the binary `cargo test` builds (test profile: opt-level 3 with debug
+# assertions, no LTO): after test-rust it is already there, so `make test` links the sweep code once
+# instead of twice (the LTO release build alone takes minutes on 2 cores). `make run` uses release.
+TEST_BIN := $(CURDIR)/target/debug/edmd
+
+test-bin:
+	$(CARGO) test -q --workspace --no-run
+
+test-python: test-bin
+	EDMD_BIN=$(TEST_BIN) $(VENV)/bin/python -m pytest -q analysis
 
 bench-smoke:
 	$(CARGO) bench --bench calendar -- --quick --noplot
@@ -106,8 +114,8 @@ bench-accuracy: deps
 
 # A real single-node Slurm (munge, slurmctld, slurmd from Debian's packages): a 4-task array sweep
 # equals a local run; a cancelled task is finished by rerunning the submit command.
-test-slurm: cli
-	PY=$(CURDIR)/$(VENV)/bin/python EDMD=$(CURDIR)/target/release/edmd bash tests/slurm/test-slurm.sh
+test-slurm: test-bin
+	PY=$(CURDIR)/$(VENV)/bin/python EDMD=$(TEST_BIN) bash tests/slurm/test-slurm.sh
 
 validate:
 	$(CARGO) test --release -p edmd-core --test engine -- --ignored --nocapture --test-threads 1 equilibrium::
