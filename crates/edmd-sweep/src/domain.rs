@@ -163,6 +163,26 @@ pub const INERTIA: Domain = Domain::new(
     false,
     "moment-of-inertia factor must lie in (0, 1] (1/2: uniform disk, 2/5: uniform sphere)",
 );
+/// Gravity: g ≥ 0 (the unit is σ = m = T0 = 1); 10⁶ bounds it far above any useful column.
+pub const GRAVITY: Domain = Domain::closed(0.0, 1e6, "gravity must lie in [0, 1e6]");
+/// Wall restitution.
+pub const WALL_EPS: Domain = Domain::closed(0.0, 1.0, "wall restitution must lie in [0, 1]");
+/// Temperatures of a thermal floor (in units of T0).
+pub const FLOOR_TEMPERATURE: Domain = Domain::new(
+    0.0,
+    true,
+    1e12,
+    false,
+    "floor temperature must lie in (0, 1e12]",
+);
+/// Relative box sides.
+pub const ASPECT: Domain = Domain::new(
+    0.0,
+    true,
+    1e3,
+    false,
+    "relative box sides must lie in (0, 1000]",
+);
 /// Species of one mixture, at most.
 pub const MAX_SPECIES: usize = 64;
 /// Number fractions of a species.
@@ -261,6 +281,9 @@ schema_fns! {
     beta_axis => BETA.axis,
     inertia_optional => INERTIA.optional,
     fraction_one => FRACTION.one,
+    gravity_axis => GRAVITY.axis,
+    wall_eps_axis => WALL_EPS.axis,
+    floor_temperature_axis => FLOOR_TEMPERATURE.optional_axis,
     diameter_one => DIAMETER.one,
     mass_optional => MASS.optional,
     phi_axis => PHI.optional_axis,

@@ -164,6 +164,14 @@ record_fields! {
     beta: f64,
     /// The mixture as `fraction:diameter:mass` per species joined by `+` (empty: one species).
     species: String,
+    /// Gravity (0: none).
+    gravity: f64,
+    /// Wall restitution (1: elastic).
+    wall_eps: f64,
+    /// Temperature of a thermal floor (0: none).
+    floor_temperature: f64,
+    /// Relative box sides joined by `x` (empty: square or cubic).
+    aspect: String,
     /// Packing fraction.
     phi: f64,
     /// Box side.
@@ -218,6 +226,14 @@ impl Record {
                 .species
                 .as_ref()
                 .map(|m| crate::spec::species_label(m, r.dim))
+                .unwrap_or_default(),
+            gravity: r.gravity,
+            wall_eps: r.wall_eps,
+            floor_temperature: r.floor_temperature,
+            aspect: r
+                .aspect
+                .as_ref()
+                .map(|a| crate::spec::aspect_label(a))
                 .unwrap_or_default(),
             phi: r.phi(),
             box_side: r.side(),
@@ -278,6 +294,10 @@ mod tests {
             eps: 0.9,
             beta: -1.0,
             species: String::new(),
+            gravity: 0.0,
+            wall_eps: 1.0,
+            floor_temperature: 0.0,
+            aspect: String::new(),
             phi: 0.25,
             box_side: 56.7,
             n: 1024,

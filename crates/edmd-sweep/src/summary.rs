@@ -6,7 +6,7 @@ use std::str::FromStr;
 use edmd_core::theory::haff_rate;
 use serde::Serialize;
 
-use crate::classify::critical_box_sides;
+use crate::classify::{critical_box_sides, Class};
 use crate::record::{Record, Status};
 use crate::spec::{BoundaryKind, RuleSpec, Spec};
 
@@ -31,6 +31,9 @@ pub struct PointRow {
     pub beta: f64,
     /// The mixture (`fraction:diameter:mass+…`; empty for one species).
     pub species: String,
+    /// Gravity, wall restitution, thermal floor and box aspect where they differ from the defaults
+    /// (`g=0.1 wall_eps=0.9 floor_T=2 aspect=2x1`; empty for a free square or cubic box).
+    pub scene: String,
     /// Seeds in the spec.
     pub seeds: usize,
     /// Seeds finished normally.
@@ -104,6 +107,9 @@ pub fn phase_table(spec: &Spec, records: &[Record]) -> Vec<PointRow> {
             let log10_t_haff = if matches!(spec.rule, RuleSpec::Constant {})
                 && first.beta == -1.0
                 && first.species.is_empty()
+                && first.gravity == 0.0
+                && first.floor_temperature == 0.0
+                && first.wall_eps == 1.0
             {
                 -haff_rate(first.dim, first.eps) * tau_end / ln10
             } else {
@@ -111,7 +117,9 @@ pub fn phase_table(spec: &Spec, records: &[Record]) -> Vec<PointRow> {
             };
             let periodic = first.boundary == BoundaryKind::Periodic.name();
             let (lp, lq) = critical_box_sides(first.dim, first.eps, first.phi, periodic);
-            let classified = spec.classify.is_some();
+            // Gravity and thermal floors are not free cooling: no fractions (not_applicable).
+            let classified =
+                spec.classify.is_some() && g.iter().any(|r| r.class != Class::NotApplicable.name());
             let frac = |c: &str| {
                 if classified {
                     g.iter().filter(|r| r.class == c).count() as f64 / g.len() as f64
@@ -134,6 +142,7 @@ pub fn phase_table(spec: &Spec, records: &[Record]) -> Vec<PointRow> {
                 eps: first.eps,
                 beta: first.beta,
                 species: first.species.clone(),
+                scene: scene_label(first),
                 seeds: g.len(),
                 done: count(Status::Done),
                 collapsed: count(Status::Collapsed),
@@ -182,7 +191,25 @@ impl FromStr for Format {
     }
 }
 
-const COLUMNS: usize = 24;
+/// The non-default scene parameters of a record, space-separated.
+fn scene_label(r: &Record) -> String {
+    let mut parts = Vec::new();
+    if r.gravity > 0.0 {
+        parts.push(format!("g={}", r.gravity));
+    }
+    if r.wall_eps != 1.0 {
+        parts.push(format!("wall_eps={}", r.wall_eps));
+    }
+    if r.floor_temperature > 0.0 {
+        parts.push(format!("floor_T={}", r.floor_temperature));
+    }
+    if !r.aspect.is_empty() {
+        parts.push(format!("aspect={}", r.aspect));
+    }
+    parts.join(" ")
+}
+
+const COLUMNS: usize = 25;
 const HEADER: [&str; COLUMNS] = [
     "D",
     "boundary",
@@ -193,6 +220,7 @@ const HEADER: [&str; COLUMNS] = [
     "eps",
     "beta",
     "species",
+    "scene",
     "seeds",
     "done",
     "collapsed",
@@ -231,6 +259,11 @@ fn cells(r: &PointRow) -> [String; COLUMNS] {
             "-".to_string()
         } else {
             r.species.clone()
+        },
+        if r.scene.is_empty() {
+            "-".to_string()
+        } else {
+            r.scene.clone()
         },
         r.seeds.to_string(),
         r.done.to_string(),

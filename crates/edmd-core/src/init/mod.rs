@@ -103,6 +103,15 @@ impl<const D: usize> InitParams<D> {
         }
     }
 
+    /// The event-loop settings `build` uses when `sim` is not set: tuned to the density, with the
+    /// random stream of random collision rules (and of a thermal floor) derived from the seed.
+    pub fn default_sim_params(&self) -> SimParams {
+        SimParams {
+            seed: self.seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ 1,
+            ..SimParams::for_density::<D>(self.packing_fraction())
+        }
+    }
+
     /// Packing fraction of the state.
     pub fn packing_fraction(&self) -> f64 {
         let vol: f64 = match &self.radii {
@@ -240,11 +249,7 @@ impl<const D: usize> InitParams<D> {
                 mass,
             })
             .collect();
-        // The random stream of random collision rules derives from the state's seed.
-        let params = self.sim.unwrap_or_else(|| SimParams {
-            seed: self.seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ 1,
-            ..SimParams::for_density::<D>(phi)
-        });
+        let params = self.sim.unwrap_or_else(|| self.default_sim_params());
         let melt = self.melt_tau.unwrap_or(if lattice { 20.0 } else { 0.0 });
         let sim = if melt > 0.0 {
             let mut sim =

@@ -92,16 +92,20 @@ pub enum Class {
     Collapsed,
     /// The replica could not start.
     Failed,
+    /// Not a freely cooling gas (gravity or a thermal floor): the classes do not apply; the note
+    /// says why.
+    NotApplicable,
 }
 
 impl Class {
     /// Every class, in table order.
-    pub const ALL: [Class; 5] = [
+    pub const ALL: [Class; 6] = [
         Class::Kinetic,
         Class::Shearing,
         Class::Clustering,
         Class::Collapsed,
         Class::Failed,
+        Class::NotApplicable,
     ];
 
     /// The name used in files and tables.
@@ -112,6 +116,7 @@ impl Class {
             Class::Clustering => "clustering",
             Class::Collapsed => "collapsed",
             Class::Failed => "failed",
+            Class::NotApplicable => "not_applicable",
         }
     }
 }

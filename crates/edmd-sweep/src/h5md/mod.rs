@@ -13,6 +13,7 @@
 //! /particles/gas/species     [N] species index; /particles/gas/diameter [N]   (mixtures)
 //! /observables/<name>        step [s], time [s], value [s]   (temperature, ln_temperature, tau, …)
 //! /observables/species_temperature  step [s], time [s], value [s, S]   (mixtures)
+//! /observables/density_profile  step [s], time [s], value [s, B], position [B]   (gravity)
 //! /parameters                schema_version, spec (JSON), spec_hash, engine_version, git_commit,
 //!                            replica parameters, seed, status, message and final values as attributes;
 //!                            /parameters/spec holds every spec field as an attribute.
@@ -272,6 +273,16 @@ fn write_file(file: &hdf5::File, spec: &Spec, r: &Replica, out: &Outcome) -> hdf
             .create("species_temperature_theory")?
             .write(&theory[..])?;
     }
+    attr_f64(&p, "gravity", r.gravity)?;
+    attr_f64(&p, "wall_eps", r.wall_eps)?;
+    attr_f64(&p, "floor_temperature", r.floor_temperature)?;
+    let aspect = r.aspect.as_ref().map(|a| crate::spec::aspect_label(a));
+    attr_str(&p, "aspect", &aspect.unwrap_or_default())?;
+    let sides = r.sides();
+    p.new_attr::<f64>()
+        .shape(sides.len())
+        .create("box_sides")?
+        .write(&sides[..])?;
     attr_f64(&p, "phi", r.phi())?;
     attr_f64(&p, "box_side", r.side())?;
     attr_i64(&p, "n", r.n as i64)?;
@@ -405,6 +416,23 @@ fn write_file(file: &hdf5::File, spec: &Spec, r: &Replica, out: &Outcome) -> hdf
         let flat: Vec<f64> = s.species_temperature.iter().flatten().copied().collect();
         let arr = Array2::from_shape_vec((s.step.len(), k), flat).expect("species shape");
         g.new_dataset_builder().with_data(&arr).create("value")?;
+    }
+    if out.profile_bins > 0 && s.density_profile.len() == s.step.len() {
+        // n(z) per sample; `position` holds the bin centres along the last axis.
+        let bins = out.profile_bins;
+        let g = obs.create_group("density_profile")?;
+        w.series_1d(&g, "step", &s.step)?;
+        w.series_1d(&g, "time", &s.time)?;
+        let flat: Vec<f64> = s.density_profile.iter().flatten().copied().collect();
+        let arr = Array2::from_shape_vec((s.step.len(), bins), flat).expect("profile shape");
+        g.new_dataset_builder().with_data(&arr).create("value")?;
+        let height = out.box_len.last().copied().unwrap_or(0.0);
+        let centres: Vec<f64> = (0..bins)
+            .map(|b| (b as f64 + 0.5) * height / bins as f64)
+            .collect();
+        g.new_dataset_builder()
+            .with_data(&Array1::from(centres))
+            .create("position")?;
     }
     let collisions: Vec<f64> = s.step.iter().map(|&c| c as f64).collect();
     w.observable(&obs, "collisions", &s.step, &s.time, &collisions)?;

@@ -116,6 +116,11 @@ pub fn read_record(path: &Path, spec_hash: &str) -> Result<Record, SweepError> {
             } else {
                 String::new()
             },
+            // Files written before these scenes: none of them.
+            gravity: read_or(&p, "gravity", 0.0)?,
+            wall_eps: read_or(&p, "wall_eps", 1.0)?,
+            floor_temperature: read_or(&p, "floor_temperature", 0.0)?,
+            aspect: aspect_of(&p)?,
             phi: read_f64(&p, "phi")?,
             box_side: read_f64(&p, "box_side")?,
             n: read_i64(&p, "n")? as usize,
@@ -144,5 +149,23 @@ pub fn read_record(path: &Path, spec_hash: &str) -> Result<Record, SweepError> {
             "{}: unknown status {status:?}",
             path.display()
         ))),
+    }
+}
+
+/// An f64 attribute, or `default` where an older file lacks it.
+fn read_or(p: &hdf5::Group, name: &str, default: f64) -> hdf5::Result<f64> {
+    if p.attr(name).is_ok() {
+        p.attr(name)?.read_scalar::<f64>()
+    } else {
+        Ok(default)
+    }
+}
+
+/// The relative box sides as `2x1`, or "" for a square or cubic box (or an older file).
+fn aspect_of(p: &hdf5::Group) -> hdf5::Result<String> {
+    if p.attr("aspect").is_ok() {
+        read_str(p, "aspect")
+    } else {
+        Ok(String::new())
     }
 }

@@ -5,8 +5,8 @@ use std::time::Instant;
 
 use edmd_core::theory::{haff_rate, temperature_ratios, Component, PairCorrelation};
 use edmd_core::{
-    Boundary, Channel, CollisionRule, ConstantRestitution, EdmdError, Periodic, RandomRotation,
-    Rough, TcModel, ThesisRestitution, ThresholdRestitution, Walls,
+    Boundary, Channel, CollisionRule, Column, ConstantRestitution, Container, EdmdError, Periodic,
+    RandomRotation, Rough, TcModel, ThesisRestitution, ThresholdRestitution, Walls,
 };
 
 use crate::classify::{critical_box_sides, Class, Classification, OrderSeries, Theory};
@@ -48,6 +48,8 @@ pub struct Series {
     pub rotational_temperature: Vec<f64>,
     /// Temperatures of the species of a mixture per sample, in species order (empty otherwise).
     pub species_temperature: Vec<Vec<f64>>,
+    /// Under gravity: the number density in bins along the last axis per sample (empty otherwise).
+    pub density_profile: Vec<Vec<f64>>,
     /// Order parameters (empty unless the spec has a `classify` section).
     pub order: OrderSeries,
 }
@@ -80,6 +82,8 @@ pub struct Outcome {
     pub snapshots: Vec<Snapshot>,
     /// Box sides.
     pub box_len: Vec<f64>,
+    /// Bins of the density profile along the last axis (0 without gravity).
+    pub profile_bins: usize,
     /// Particle radii.
     pub radius: Vec<f64>,
     /// Particle masses.
@@ -108,6 +112,7 @@ impl Outcome {
             series: Series::default(),
             snapshots: Vec::new(),
             box_len: Vec::new(),
+            profile_bins: 0,
             radius: Vec::new(),
             mass: Vec::new(),
             species: Vec::new(),
@@ -153,10 +158,45 @@ fn by_boundary<const D: usize>(
     r: &Replica,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<Outcome, EdmdError> {
+    if r.gravity > 0.0 {
+        // Gravity pulls towards the floor of the last axis: walls there (checked in the spec).
+        return match r.boundary {
+            BoundaryKind::Walls => by_gravity::<D, Container>(spec, r, progress),
+            BoundaryKind::Channel => by_gravity::<D, Column>(spec, r, progress),
+            BoundaryKind::Periodic => Err(EdmdError::invalid(
+                "gravity",
+                r.gravity,
+                "needs walls on the last axis",
+            )),
+        };
+    }
     match r.boundary {
         BoundaryKind::Periodic => by_rule::<D, Periodic>(spec, r, progress),
         BoundaryKind::Walls => by_rule::<D, Walls>(spec, r, progress),
         BoundaryKind::Channel => by_rule::<D, Channel>(spec, r, progress),
+    }
+}
+
+/// Gravity scenes run constant restitution with remedy none or TC (the spec checks it): that keeps
+/// the number of compiled scene × rule × remedy combinations small.
+fn by_gravity<const D: usize, B: Boundary>(
+    spec: &Spec,
+    r: &Replica,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<Outcome, EdmdError> {
+    let rule = ConstantRestitution::new(r.eps)?;
+    match (&spec.rule, r.remedy) {
+        (RuleSpec::Constant {}, Remedy::None {}) => {
+            by_roughness::<D, B, _>(spec, r, rule, progress)
+        }
+        (RuleSpec::Constant {}, Remedy::Tc { tc }) => {
+            by_roughness::<D, B, _>(spec, r, TcModel::new(rule, tc)?, progress)
+        }
+        _ => Err(EdmdError::invalid(
+            "gravity",
+            r.gravity,
+            "runs with rule constant and remedy none or tc only",
+        )),
     }
 }
 
@@ -254,8 +294,8 @@ pub fn theory(spec: &Spec, r: &Replica) -> Theory {
             && !r.rough()
             && r.species.is_none())
         .then(|| haff_rate(r.dim, r.eps)),
-        l_over_l_perp: r.side() / lp,
-        l_over_l_par: r.side() / lq,
+        l_over_l_perp: r.sides().into_iter().fold(0.0, f64::max) / lp,
+        l_over_l_par: r.sides().into_iter().fold(0.0, f64::max) / lq,
         per_cell: r.n as f64 / (grid as f64).powi(r.dim as i32),
     }
 }

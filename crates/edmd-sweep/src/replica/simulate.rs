@@ -3,8 +3,8 @@
 
 use edmd_core::theory::haff_temperature_tau;
 use edmd_core::{
-    order_parameters, Boundary, CollisionRule, EdmdError, InitParams, RunEnd, Schedule, Simulation,
-    Stop, Vector, Velocities, VirialMeter,
+    order_parameters, Boundary, CollisionRule, EdmdError, InitParams, RunEnd, Schedule, SimParams,
+    Simulation, Stop, Vector, Velocities, VirialMeter,
 };
 
 use super::{theory, Outcome, Series, Snapshot, Status};
@@ -53,7 +53,8 @@ pub(super) fn simulate<const D: usize, B: Boundary, R: CollisionRule>(
     rule: R,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<Outcome, EdmdError> {
-    let mut p = InitParams::<D>::in_box(r.n, Vector::<D>::repeat(r.side()));
+    let sides = r.sides();
+    let mut p = InitParams::<D>::in_box(r.n, Vector::<D>::from_fn(|a, _| sides[a]));
     p.seed = r.seed;
     p.velocities = match spec.init.velocities {
         VelocityKind::Maxwell => Velocities::Maxwell,
@@ -72,13 +73,38 @@ pub(super) fn simulate<const D: usize, B: Boundary, R: CollisionRule>(
         p.masses = Some(species_of.iter().map(|&k| m[k].mass_in(D)).collect());
     }
     let counts = r.species_counts();
+    // Walls, gravity and a thermal floor of the scene (PHYSICS.md §1.4).
+    if r.gravity > 0.0 || r.wall_eps != 1.0 || r.floor_temperature > 0.0 {
+        p.sim = Some(SimParams {
+            gravity: r.gravity,
+            wall_epsilon: r.wall_eps,
+            floor_temperature: r.floor_temperature,
+            ..p.default_sim_params()
+        });
+    }
     let mut sim: Simulation<D, B, R> = p.build::<B, R>(rule)?;
     let t0 = sim.temperature();
     let n = r.n as f64;
     let volume = sim.box_len().iter().product::<f64>();
     // Haff's law of one species of smooth grains; rough grains and mixtures cool by other laws.
-    let haff = matches!(spec.rule, RuleSpec::Constant {}) && !r.rough() && r.species.is_none();
-    let grid = spec.classify.as_ref().map(|c| c.grid_for(r.n, D));
+    let haff = matches!(spec.rule, RuleSpec::Constant {})
+        && !r.rough()
+        && r.species.is_none()
+        && !r.driven_or_stratified()
+        && r.wall_eps == 1.0;
+    // Order parameters only where the classes apply (free cooling).
+    let grid = spec
+        .classify
+        .as_ref()
+        .filter(|_| !r.driven_or_stratified())
+        .map(|c| c.grid_for(r.n, D));
+    // Under gravity: the number density n(z) along the last axis in bins of about one diameter.
+    let profile_bins = if r.gravity > 0.0 {
+        (sides[D - 1].floor() as usize).max(1)
+    } else {
+        0
+    };
+    let cross_section: f64 = sides[..D - 1].iter().product();
     let masses = sim.masses();
     let theory = theory(spec, r);
 
@@ -132,6 +158,15 @@ pub(super) fn simulate<const D: usize, B: Boundary, R: CollisionRule>(
         series
             .momentum_error
             .push(o.momentum.norm() / o.momentum_scale.max(f64::MIN_POSITIVE));
+        if profile_bins > 0 {
+            let width = sides[D - 1] / profile_bins as f64;
+            let mut n_z = vec![0.0; profile_bins];
+            for x in sim.positions() {
+                let b = ((x[D - 1] / width) as usize).min(profile_bins - 1);
+                n_z[b] += 1.0 / (cross_section * width);
+            }
+            series.density_profile.push(n_z);
+        }
         if r.species.is_some() {
             // T_k = Σ_{a∈k} m v_a² / (d N_k), species in order.
             let mut e = vec![0.0; counts.len()];
@@ -226,7 +261,11 @@ pub(super) fn simulate<const D: usize, B: Boundary, R: CollisionRule>(
                 break;
             }
         }
-        if let (true, Some(c)) = (spec.stop.classified, &spec.classify) {
+        if let (true, Some(c), false) = (
+            spec.stop.classified,
+            &spec.classify,
+            r.driven_or_stratified(),
+        ) {
             settled_as = settled(&series.order, &c.thresholds, &theory);
             if settled_as.is_some() {
                 break;
@@ -301,6 +340,17 @@ pub(super) fn simulate<const D: usize, B: Boundary, R: CollisionRule>(
     };
     let radius = p.radii.clone().unwrap_or_else(|| vec![p.radius; r.n]);
     let classification = spec.classify.as_ref().map(|c| match status {
+        Status::Done if r.driven_or_stratified() => Classification {
+            class: Class::NotApplicable,
+            shear_onset: f64::NAN,
+            cluster_onset: f64::NAN,
+            haff_deviation: Vec::new(),
+            note: if r.gravity > 0.0 {
+                "gravity: a stratified column is not free cooling".into()
+            } else {
+                "driven by a thermal floor: not free cooling".into()
+            },
+        },
         Status::Done => classify(&series.order, &c.thresholds, &theory),
         Status::Collapsed | Status::Failed | Status::Missing | Status::Corrupt => Classification {
             class: if status == Status::Collapsed {
@@ -325,6 +375,7 @@ pub(super) fn simulate<const D: usize, B: Boundary, R: CollisionRule>(
         series,
         snapshots,
         box_len: sim.box_len().iter().copied().collect(),
+        profile_bins,
         radius,
         mass: sim.masses(),
         species: if r.species.is_some() {

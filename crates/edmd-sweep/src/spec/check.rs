@@ -8,7 +8,9 @@ use edmd_core::{
     ConstantRestitution, EdmdError, ThesisRestitution, ThresholdRestitution, Viscoelastic,
 };
 
-use super::{close_packing, Density, Grid, OneOrMany, Remedy, Replica, RuleSpec, Spec};
+use super::{
+    close_packing, BoundaryKind, Density, Grid, OneOrMany, Remedy, Replica, RuleSpec, Spec,
+};
 use crate::domain::{self, Domain, MAX_REPLICAS, MAX_SAMPLES};
 use crate::SweepError;
 
@@ -122,6 +124,106 @@ impl Spec {
         }
         if let Some(q) = g.inertia {
             within("inertia", q, &domain::INERTIA)?;
+        }
+        for (field, axis, d) in [
+            ("gravity", &g.gravity, &domain::GRAVITY),
+            ("wall_eps", &g.wall_eps, &domain::WALL_EPS),
+        ] {
+            no_duplicates(at, field, axis)?;
+            if axis.values().is_empty() {
+                return bad(field, &"[]", "empty axis: the grid has no replicas");
+            }
+            for v in axis.values() {
+                within(field, v, d)?;
+            }
+        }
+        if let Some(f) = &g.floor_temperature {
+            no_duplicates(at, "floor_temperature", f)?;
+            if f.values().is_empty() {
+                return bad(
+                    "floor_temperature",
+                    &"[]",
+                    "empty axis: the grid has no replicas",
+                );
+            }
+            for v in f.values() {
+                within("floor_temperature", v, &domain::FLOOR_TEMPERATURE)?;
+            }
+        }
+        let gravity = g.gravity.values().iter().any(|&x| x > 0.0);
+        let walls_needed = [
+            (gravity, "gravity", format!("{:?}", g.gravity.values())),
+            (
+                g.floor_temperature.is_some(),
+                "floor_temperature",
+                format!(
+                    "{:?}",
+                    g.floor_temperature
+                        .as_ref()
+                        .map(|f| f.values())
+                        .unwrap_or_default()
+                ),
+            ),
+            (
+                g.wall_eps.values().iter().any(|&x| x != 1.0),
+                "wall_eps",
+                format!("{:?}", g.wall_eps.values()),
+            ),
+        ];
+        for (needed, field, value) in walls_needed {
+            if needed && g.boundary.values().contains(&BoundaryKind::Periodic) {
+                return bad(
+                    field,
+                    &value,
+                    "needs walls on the last axis: boundary \"walls\" or \"channel\", not \"periodic\"",
+                );
+            }
+        }
+        if gravity || g.floor_temperature.is_some() {
+            let field = if gravity {
+                "gravity"
+            } else {
+                "floor_temperature"
+            };
+            if !matches!(self.rule, RuleSpec::Constant {}) {
+                return bad(
+                    field,
+                    &"given",
+                    "gravity and thermal floors run with rule \"constant\" only",
+                );
+            }
+            if g.remedy
+                .values()
+                .iter()
+                .any(|r| matches!(r, Remedy::Rotation { .. }))
+            {
+                return bad(
+                    field,
+                    &"given",
+                    "gravity and thermal floors run with remedy \"none\" or \"tc\" only",
+                );
+            }
+        }
+        if let Some(axis) = &g.aspect {
+            for (k, a) in axis.0.iter().enumerate() {
+                let at_k = if axis.0.len() > 1 {
+                    format!("aspect[{k}]")
+                } else {
+                    "aspect".into()
+                };
+                for d in g.dim.values() {
+                    if a.len() != d {
+                        return bad(
+                            &at_k,
+                            &format!("{:?}", a.as_slice()),
+                            &format!("needs one relative side per axis ({d} for dim {d})"),
+                        );
+                    }
+                }
+                for (i, &x) in a.iter().enumerate() {
+                    within(&format!("{at_k}[{i}]"), x, &domain::ASPECT)?;
+                }
+            }
         }
         if let Some(axis) = &g.species {
             let axis_len = axis.0.len();
@@ -406,6 +508,10 @@ fn grid_size(g: &Grid) -> f64 {
         g.eps.values().len(),
         g.beta.values().len(),
         g.species.as_ref().map_or(1, |a| a.0.len()),
+        g.aspect.as_ref().map_or(1, |a| a.0.len()),
+        g.gravity.values().len(),
+        g.wall_eps.values().len(),
+        g.floor_temperature.as_ref().map_or(1, |f| f.values().len()),
     ];
     axes.iter().map(|&a| a as f64).product::<f64>() * density_pairs(g) * g.seeds as f64
 }
@@ -439,7 +545,7 @@ pub(crate) fn check_replica(spec: &Spec, r: &Replica) -> Result<(), SweepError> 
             r.n as f64
         )));
     }
-    let side = r.side();
+    let side = r.sides().into_iter().fold(f64::INFINITY, f64::min);
     if !(side >= 3.0) {
         return Err(SweepError::Spec(format!(
             "{r}: box side L = {side:.3} is below 3 particle diameters (the smallest cell list); raise N or lower phi"

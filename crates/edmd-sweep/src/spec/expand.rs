@@ -1,6 +1,7 @@
 //! Expansion of a spec into replicas, their seeds, and shards of them.
 
 use std::fmt;
+use std::sync::Arc;
 
 use super::species::{self, Mixture};
 use super::{BoundaryKind, Grid, Remedy, Spec};
@@ -32,6 +33,14 @@ pub struct Replica {
     pub inertia: f64,
     /// The species of a mixture (`None`: one species, σ = 1, m = 1).
     pub species: Option<Mixture>,
+    /// Relative box sides (`None`: square or cubic).
+    pub aspect: Option<Arc<Vec<f64>>>,
+    /// Gravity along −(last axis) (0: none).
+    pub gravity: f64,
+    /// Wall restitution (1: elastic).
+    pub wall_eps: f64,
+    /// Temperature of a thermal floor (0: none).
+    pub floor_temperature: f64,
     /// Box as given.
     pub density: Density,
     /// Particle number.
@@ -50,20 +59,62 @@ impl Replica {
         format!("r{:05}.h5", self.index)
     }
 
-    /// Box side L (square or cubic box).
+    /// Box side L: every side of a square or cubic box, the unit of `aspect` otherwise.
     pub fn side(&self) -> f64 {
         match self.density {
             Density::Side(l) => l,
-            Density::Phi(phi) => (self.grain_volume() / phi).powf(1.0 / self.dim as f64),
+            Density::Phi(phi) => {
+                (self.grain_volume() / (phi * self.aspect_volume())).powf(1.0 / self.dim as f64)
+            }
         }
+    }
+
+    /// The box sides, L·aspect[a].
+    pub fn sides(&self) -> Vec<f64> {
+        let l = self.side();
+        match &self.aspect {
+            None => vec![l; self.dim],
+            Some(a) => a.iter().map(|x| l * x).collect(),
+        }
+    }
+
+    /// Π aspect[a] (1 for a square or cubic box).
+    fn aspect_volume(&self) -> f64 {
+        self.aspect.as_ref().map_or(1.0, |a| a.iter().product())
     }
 
     /// Packing fraction φ.
     pub fn phi(&self) -> f64 {
         match self.density {
             Density::Phi(phi) => phi,
-            Density::Side(l) => self.grain_volume() / l.powi(self.dim as i32),
+            Density::Side(l) => {
+                self.grain_volume() / (l.powi(self.dim as i32) * self.aspect_volume())
+            }
         }
+    }
+
+    /// Whether the scene has gravity or a thermal floor (not free cooling: no classification).
+    pub fn driven_or_stratified(&self) -> bool {
+        self.gravity > 0.0 || self.floor_temperature > 0.0
+    }
+
+    /// `""` for a free periodic or walled box; `, g=0.1, wall_eps=0.9, floor_T=2, aspect=2x1` for
+    /// whatever differs from the defaults.
+    pub fn scene_label(&self) -> String {
+        let mut out = String::new();
+        if self.gravity > 0.0 {
+            out += &format!(", g={}", self.gravity);
+        }
+        if self.wall_eps != 1.0 {
+            out += &format!(", wall_eps={}", self.wall_eps);
+        }
+        if self.floor_temperature > 0.0 {
+            out += &format!(", floor_T={}", self.floor_temperature);
+        }
+        if let Some(a) = &self.aspect {
+            out += &format!(", aspect={}", aspect_label(a));
+        }
+        out
     }
 
     /// The volume of all grains: N v₁ for one species, Σ N_k v(σ_k) for a mixture.
@@ -104,7 +155,7 @@ impl Replica {
     /// The grid point (every parameter but the seed) as a key for grouping.
     pub fn point_key(&self) -> String {
         format!(
-            "{}|{}|{}|{}|{}|{}{}{}",
+            "{}|{}|{}|{}|{}|{}{}{}{}",
             self.dim,
             self.boundary.name(),
             self.eps,
@@ -112,7 +163,8 @@ impl Replica {
             self.n,
             self.remedy.label(),
             self.rough_label(),
-            self.species_label()
+            self.species_label(),
+            self.scene_label()
         )
     }
 
@@ -142,19 +194,28 @@ impl fmt::Display for Replica {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(
             f,
-            "replica {} (D={}, {}, eps={}{}{}, {}, N={}, seed #{}, remedy {})",
+            "replica {} (D={}, {}, eps={}{}{}{}, {}, N={}, seed #{}, remedy {})",
             self.index,
             self.dim,
             self.boundary.name(),
             self.eps,
             self.rough_label(),
             self.species_label(),
+            self.scene_label(),
             self.density_label(),
             self.n,
             self.seed_index,
             self.remedy.label()
         )
     }
+}
+
+/// `2x1` (the relative sides joined by `x`).
+pub fn aspect_label(a: &[f64]) -> String {
+    a.iter()
+        .map(|x| x.to_string())
+        .collect::<Vec<_>>()
+        .join("x")
 }
 
 /// Volume of a particle of diameter 1 in `d` dimensions.
@@ -183,8 +244,8 @@ pub fn stable_hash(bytes: &[u8]) -> u64 {
 }
 
 impl Spec {
-    /// The replicas in expansion order: grid by grid; within a grid dim, species, boundary, remedy, n,
-    /// density, eps, beta, seed (seed fastest).
+    /// The replicas in expansion order: grid by grid; within a grid dim, species, aspect, boundary,
+    /// remedy, n, density, eps, beta, gravity, wall_eps, floor_temperature, seed (seed fastest).
     pub fn replicas(&self) -> Vec<Replica> {
         let mut out = Vec::new();
         for g in self.grid.values() {
@@ -201,9 +262,26 @@ impl Spec {
             None => vec![None],
             Some(axis) => axis.0.iter().cloned().map(Some).collect(),
         };
+        let aspects: Vec<Option<Arc<Vec<f64>>>> = match &g.aspect {
+            None => vec![None],
+            Some(axis) => axis.0.iter().cloned().map(Some).collect(),
+        };
+        let floors = g
+            .floor_temperature
+            .as_ref()
+            .map_or(vec![0.0], |f| f.values());
+        // The scene axes varying inside beta: gravity, wall restitution, floor temperature.
+        let mut scenes = Vec::new();
+        for gravity in g.gravity.values() {
+            for wall_eps in g.wall_eps.values() {
+                for &floor in &floors {
+                    scenes.push((gravity, wall_eps, floor));
+                }
+            }
+        }
         for dim in g.dim.values() {
+            let inertia = g.inertia.unwrap_or(if dim == 2 { 0.5 } else { 0.4 });
             for mixture in &mixtures {
-                let inertia = g.inertia.unwrap_or(if dim == 2 { 0.5 } else { 0.4 });
                 // The mean grain volume: v₁ for one species, Σ x_k v(σ_k) for a mixture.
                 let v_mean = match mixture {
                     None => ball_volume(dim),
@@ -214,48 +292,58 @@ impl Spec {
                         })
                         .sum(),
                 };
-                // (N, box) pairs: N × φ, N × L, or N = round(φ L^D / v₁) for φ × L.
-                let pairs: Vec<(usize, Density)> = match (phis.is_empty(), sides.is_empty()) {
-                    (false, true) => ns
-                        .iter()
-                        .flat_map(|&n| phis.iter().map(move |&p| (n, Density::Phi(p))))
-                        .collect(),
-                    (true, false) => ns
-                        .iter()
-                        .flat_map(|&n| sides.iter().map(move |&l| (n, Density::Side(l))))
-                        .collect(),
-                    _ => phis
-                        .iter()
-                        .flat_map(|&p| {
-                            sides.iter().map(move |&l| {
-                                let n = (p * l.powi(dim as i32) / v_mean).round();
-                                ((n as usize).max(2), Density::Side(l))
+                for aspect in &aspects {
+                    let aspect_volume: f64 = aspect.as_ref().map_or(1.0, |a| a.iter().product());
+                    // (N, box) pairs: N × φ, N × L, or N = round(φ L^D Π aspect / v̄) for φ × L.
+                    let pairs: Vec<(usize, Density)> = match (phis.is_empty(), sides.is_empty()) {
+                        (false, true) => ns
+                            .iter()
+                            .flat_map(|&n| phis.iter().map(move |&p| (n, Density::Phi(p))))
+                            .collect(),
+                        (true, false) => ns
+                            .iter()
+                            .flat_map(|&n| sides.iter().map(move |&l| (n, Density::Side(l))))
+                            .collect(),
+                        _ => phis
+                            .iter()
+                            .flat_map(|&p| {
+                                sides.iter().map(move |&l| {
+                                    let n =
+                                        (p * l.powi(dim as i32) * aspect_volume / v_mean).round();
+                                    ((n as usize).max(2), Density::Side(l))
+                                })
                             })
-                        })
-                        .collect(),
-                };
-                for boundary in g.boundary.values() {
-                    for remedy in g.remedy.values() {
-                        for &(n, density) in &pairs {
-                            for eps in g.eps.values() {
-                                for beta in g.beta.values() {
-                                    for seed_index in 0..g.seeds {
-                                        let mut r = Replica {
-                                            index: out.len(),
-                                            dim,
-                                            boundary,
-                                            eps,
-                                            beta,
-                                            inertia,
-                                            species: mixture.clone(),
-                                            density,
-                                            n,
-                                            seed_index,
-                                            remedy,
-                                            seed: 0,
-                                        };
-                                        r.seed = self.replica_seed(&r);
-                                        out.push(r);
+                            .collect(),
+                    };
+                    for boundary in g.boundary.values() {
+                        for remedy in g.remedy.values() {
+                            for &(n, density) in &pairs {
+                                for eps in g.eps.values() {
+                                    for beta in g.beta.values() {
+                                        for &(gravity, wall_eps, floor_temperature) in &scenes {
+                                            for seed_index in 0..g.seeds {
+                                                let mut r = Replica {
+                                                    index: out.len(),
+                                                    dim,
+                                                    boundary,
+                                                    eps,
+                                                    beta,
+                                                    inertia,
+                                                    species: mixture.clone(),
+                                                    aspect: aspect.clone(),
+                                                    gravity,
+                                                    wall_eps,
+                                                    floor_temperature,
+                                                    density,
+                                                    n,
+                                                    seed_index,
+                                                    remedy,
+                                                    seed: 0,
+                                                };
+                                                r.seed = self.replica_seed(&r);
+                                                out.push(r);
+                                            }
+                                        }
                                     }
                                 }
                             }
@@ -272,14 +360,18 @@ impl Spec {
     /// comparisons across ε. It does not depend on the replica's index, the thread count or the shard.
     pub fn replica_seed(&self, r: &Replica) -> u64 {
         let key = format!(
-            "{}|{}|{}|{}|{}|{}{}",
+            "{}|{}|{}|{}|{}|{}{}{}",
             self.seed,
             r.dim,
             r.boundary.name(),
             r.density_label(),
             r.n,
             r.seed_index,
-            r.species_label()
+            r.species_label(),
+            r.aspect
+                .as_ref()
+                .map(|a| format!(", aspect={}", aspect_label(a)))
+                .unwrap_or_default()
         );
         stable_hash(key.as_bytes())
     }

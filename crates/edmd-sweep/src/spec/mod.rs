@@ -17,9 +17,9 @@ mod species;
 
 pub use crate::domain::{MAX_REPLICAS, MAX_SAMPLES};
 pub use check::viscoelastic;
-pub use expand::{ball_volume, close_packing, stable_hash, Density, Replica, Shard};
+pub use expand::{aspect_label, ball_volume, close_packing, stable_hash, Density, Replica, Shard};
 pub use one_or_many::OneOrMany;
-pub use species::{label as species_label, Mixture, Species, SpeciesAxis};
+pub use species::{label as species_label, AspectAxis, ListAxis, Mixture, Species, SpeciesAxis};
 
 /// The largest spec file read (1 MiB): a spec is a few hundred bytes; this bounds what a wrong path
 /// (`/dev/zero`, a trajectory file) can make the reader allocate.
@@ -355,6 +355,24 @@ pub struct Grid {
     /// every species; N is split by the fractions.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub species: Option<SpeciesAxis>,
+    /// Relative box sides: D positive numbers (default all 1), or a list of such lists (an axis).
+    /// Side a is `box`·aspect[a]; with `phi` the box holds N grains at φ.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub aspect: Option<AspectAxis>,
+    /// Gravity g ≥ 0 along −y (2D) or −z (3D), towards the floor at 0 (default 0); needs walls on
+    /// that axis (`"walls"` or `"channel"`).
+    #[serde(default = "default_zero", skip_serializing_if = "is_zero")]
+    #[schemars(schema_with = "domain::gravity_axis")]
+    pub gravity: OneOrMany<f64>,
+    /// Normal restitution of the walls, in [0, 1] (default 1: elastic).
+    #[serde(default = "default_one", skip_serializing_if = "is_one")]
+    #[schemars(schema_with = "domain::wall_eps_axis")]
+    pub wall_eps: OneOrMany<f64>,
+    /// A thermal floor at this temperature (the wall at 0 of the last axis re-emits grains from its
+    /// flux-weighted Maxwellian; PHYSICS.md §1.4); default none. Needs walls on that axis.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(schema_with = "domain::floor_temperature_axis")]
+    pub floor_temperature: Option<OneOrMany<f64>>,
 }
 
 fn default_dim() -> OneOrMany<usize> {
@@ -370,6 +388,18 @@ fn default_beta() -> OneOrMany<f64> {
 /// keep their hash.
 fn is_smooth(beta: &OneOrMany<f64>) -> bool {
     *beta == default_beta()
+}
+fn default_zero() -> OneOrMany<f64> {
+    OneOrMany::One(0.0)
+}
+fn is_zero(v: &OneOrMany<f64>) -> bool {
+    *v == default_zero()
+}
+fn default_one() -> OneOrMany<f64> {
+    OneOrMany::One(1.0)
+}
+fn is_one(v: &OneOrMany<f64>) -> bool {
+    *v == default_one()
 }
 fn default_seeds() -> u32 {
     1

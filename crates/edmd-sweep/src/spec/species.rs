@@ -32,11 +32,17 @@ impl Species {
 /// A mixture: its species in order (species k of the files is the k-th here).
 pub type Mixture = Arc<Vec<Species>>;
 
-/// One mixture (`[{…}, {…}]`) or several (`[[{…}, {…}], [{…}]]`), an axis of the grid.
+/// A grid value that is itself a list: one list (`[a, b]`) or several (`[[a, b], [c]]`), an axis.
 #[derive(Debug, Clone, PartialEq)]
-pub struct SpeciesAxis(pub Vec<Mixture>);
+pub struct ListAxis<T>(pub Vec<Arc<Vec<T>>>);
 
-impl Serialize for SpeciesAxis {
+/// One mixture (`[{…}, {…}]`) or several (`[[{…}, {…}], [{…}]]`), an axis of the grid.
+pub type SpeciesAxis = ListAxis<Species>;
+
+/// Relative box sides, one list of D numbers or several (an axis).
+pub type AspectAxis = ListAxis<f64>;
+
+impl<T: Serialize> Serialize for ListAxis<T> {
     fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
         match self.0.as_slice() {
             [one] => one.as_slice().serialize(s),
@@ -49,13 +55,13 @@ impl Serialize for SpeciesAxis {
     }
 }
 
-impl<'de> Deserialize<'de> for SpeciesAxis {
+impl<'de, T: serde::de::DeserializeOwned> Deserialize<'de> for ListAxis<T> {
     fn deserialize<De: serde::Deserializer<'de>>(d: De) -> Result<Self, De::Error> {
         use serde::de::Error;
         let v = serde_json::Value::deserialize(d)?;
         let nested = matches!(&v, serde_json::Value::Array(items) if items.first().is_some_and(|x| x.is_array()));
         let parse = |v: serde_json::Value, at: String| {
-            serde_path_to_error::deserialize::<_, Vec<Species>>(v)
+            serde_path_to_error::deserialize::<_, Vec<T>>(v)
                 .map(Arc::new)
                 .map_err(|e| {
                     let path = e.path().to_string();
@@ -79,9 +85,9 @@ impl<'de> Deserialize<'de> for SpeciesAxis {
                 .enumerate()
                 .map(|(i, m)| parse(m, format!("[{i}]")))
                 .collect::<Result<Vec<_>, _>>()
-                .map(SpeciesAxis)
+                .map(ListAxis)
         } else {
-            parse(v, String::new()).map(|m| SpeciesAxis(vec![m]))
+            parse(v, String::new()).map(|m| ListAxis(vec![m]))
         }
     }
 }
@@ -93,17 +99,17 @@ fn strip_position(message: &str) -> String {
     }
 }
 
-impl JsonSchema for SpeciesAxis {
+impl<T: JsonSchema> JsonSchema for ListAxis<T> {
     fn schema_name() -> Cow<'static, str> {
-        "SpeciesAxis".into()
+        format!("ListAxis_{}", T::schema_name()).into()
     }
 
     fn json_schema(generator: &mut SchemaGenerator) -> Schema {
-        let species = generator.subschema_for::<Species>();
-        let mixture = json_schema!({ "type": "array", "items": species, "minItems": 1 });
+        let item = generator.subschema_for::<T>();
+        let list = json_schema!({ "type": "array", "items": item, "minItems": 1 });
         json_schema!({
-            "description": "One mixture (a list of species) or a list of mixtures (an axis).",
-            "oneOf": [mixture, { "type": "array", "items": mixture, "minItems": 1 }]
+            "description": "One list or a list of lists (an axis).",
+            "oneOf": [list, { "type": "array", "items": list, "minItems": 1 }]
         })
     }
 }
