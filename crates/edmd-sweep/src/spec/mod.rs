@@ -10,12 +10,15 @@ use serde::{Deserialize, Serialize};
 use crate::domain;
 use crate::SweepError;
 
+mod boundary;
 mod check;
+mod check_scene;
 mod expand;
 mod one_or_many;
 mod species;
 
 pub use crate::domain::{MAX_REPLICAS, MAX_SAMPLES};
+pub use boundary::BoundaryKind;
 pub use check::viscoelastic;
 pub use expand::{aspect_label, ball_volume, close_packing, stable_hash, Density, Replica, Shard};
 pub use one_or_many::OneOrMany;
@@ -24,39 +27,6 @@ pub use species::{label as species_label, AspectAxis, ListAxis, Mixture, Species
 /// The largest spec file read (1 MiB): a spec is a few hundred bytes; this bounds what a wrong path
 /// (`/dev/zero`, a trajectory file) can make the reader allocate.
 pub const MAX_SPEC_BYTES: usize = 1 << 20;
-
-/// Boundary conditions of the box.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
-#[serde(rename_all = "lowercase")]
-pub enum BoundaryKind {
-    /// Periodic along every axis.
-    Periodic,
-    /// Hard specular walls along every axis.
-    Walls,
-    /// Periodic along x, walls along the other axes.
-    Channel,
-}
-
-impl BoundaryKind {
-    /// The name used in files and tables.
-    pub fn name(self) -> &'static str {
-        match self {
-            BoundaryKind::Periodic => "periodic",
-            BoundaryKind::Walls => "walls",
-            BoundaryKind::Channel => "channel",
-        }
-    }
-
-    /// H5MD `boundary` attribute per axis ("periodic" or "none").
-    pub fn h5md_boundary(self, d: usize) -> Vec<&'static str> {
-        (0..d)
-            .map(|axis| match (self, axis) {
-                (BoundaryKind::Periodic, _) | (BoundaryKind::Channel, 0) => "periodic",
-                _ => "none",
-            })
-            .collect()
-    }
-}
 
 /// A remedy against inelastic collapse, applied on top of the rule.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
@@ -501,22 +471,4 @@ impl Spec {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::Spec;
-
-    /// The committed schema is the one the types generate: regenerate it with
-    /// `cargo run -p edmd-cli -- spec-schema > docs/sweep-spec.schema.json` after changing a type.
-    #[test]
-    fn committed_schema_matches_the_types() {
-        let path = concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/../../docs/sweep-spec.schema.json"
-        );
-        let committed = std::fs::read_to_string(path).expect("docs/sweep-spec.schema.json");
-        assert!(
-            committed == Spec::json_schema_text(),
-            "docs/sweep-spec.schema.json differs from the spec types: run \
-             `cargo run -p edmd-cli -- spec-schema > docs/sweep-spec.schema.json`"
-        );
-    }
-}
+mod tests;
