@@ -11,6 +11,8 @@ pub use mixture::{
     cooling_rates, pair_correlation, temperature_ratios, Component, PairCorrelation,
 };
 pub use rough::RoughCooling;
+mod rough_sonine;
+pub use rough_sonine::{RoughSonine, SonineState};
 
 /// Henderson (1975): χ = (1 − 7φ/16)/(1 − φ)² for hard disks (reliable for φ ≤ 0.35).
 pub fn chi_henderson(phi: f64) -> f64 {
