@@ -117,6 +117,11 @@ class Replica:
     observables: Dict[str, np.ndarray] = field(default_factory=dict)
     step: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
     time: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    # Under gravity: the bin centres of observables/density_profile, and the barometric profile with
+    # its temperature where the file has it (elastic columns).
+    profile_position: np.ndarray | None = None
+    profile_theory: np.ndarray | None = None
+    profile_theory_temperature: float | None = None
 
     @property
     def status(self) -> str:
@@ -151,6 +156,12 @@ def read_replica(path) -> Replica:
             first = next(iter(f["observables"].values()))
             rep.step = first["step"][()]
             rep.time = first["time"][()]
+            if "density_profile" in f["observables"]:
+                g = f["observables/density_profile"]
+                rep.profile_position = g["position"][()]
+                if "theory" in g:
+                    rep.profile_theory = g["theory"][()]
+                    rep.profile_theory_temperature = float(g.attrs["theory_temperature"])
         return rep
 
 

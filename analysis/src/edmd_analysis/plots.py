@@ -1,8 +1,10 @@
 """Plots of edmd output. Every function draws into a matplotlib Axes it is given and returns it, so
 figures can be composed freely; none reads files (use edmd_analysis.io for that).
 
-Theory curves come from the files: ``haff_temperature`` is written by the engine's theory module, and
-the phase table's L/L_perp, L/L_par come from ``edmd summarize --format json``.
+Theory curves come from the files: ``haff_temperature``, ``rotational_ratio_theory``, the parameters
+``rotational_ratio_sonine`` and ``species_temperature_theory`` and the ``theory`` profile of
+``density_profile`` are written by the engine's theory module (docs/PHYSICS.md), and the phase
+table's L/L_perp, L/L_par come from ``edmd summarize --format json``.
 """
 
 from __future__ import annotations
@@ -10,6 +12,10 @@ from __future__ import annotations
 from typing import Dict, Optional, Sequence
 
 import numpy as np
+
+# Species colours (a mixture's species in order).
+SPECIES_COLOURS = ["#9ecae1", "#fdae6b", "#a1d99b", "#bcbddc", "#fdd0a2", "#c7e9c0"]
+SPECIES_EDGES = ["#3182bd", "#e6550d", "#31a354", "#756bb1", "#d94801", "#238b45"]
 
 CLASS_COLOURS = {
     "kinetic": "#2c7bb6",
@@ -45,18 +51,56 @@ def cooling(ax, rep, log_tau: bool = True, label: Optional[str] = None):
     return ax
 
 
-def snapshot(ax, snaps, k: int = -1, arrows: bool = True, max_arrows: int = 4000):
-    """Disks drawn to scale at snapshot ``k`` (2D), with velocity arrows (figs. 8.2-8.3, 8.7-8.11)."""
+def snapshot_colouring(snaps) -> str:
+    """How ``snapshot`` colours grains by default: 'species' for a mixture, 'spin' for rough grains,
+    'plain' otherwise."""
+    if snaps.species is not None and len(np.unique(snaps.species)) > 1:
+        return "species"
+    if snaps.angular_velocity is not None:
+        return "spin"
+    return "plain"
+
+
+def snapshot(ax, snaps, k: int = -1, arrows: bool = True, max_arrows: int = 4000,
+             colour: Optional[str] = None):
+    """Disks drawn to scale at snapshot ``k`` (2D), with velocity arrows (figs. 8.2-8.3, 8.7-8.11).
+
+    ``colour``: 'species' (one colour per species of a mixture, with a legend), 'spin' (the angular
+    velocity omega of rough disks, blue to red, in units of its rms at that instant, with a colour
+    bar), 'plain'; by default what ``snapshot_colouring`` picks. Returns the Axes."""
     from matplotlib.collections import EllipseCollection
 
     pos = snaps.position[k]
     if pos.shape[1] != 2:
         raise ValueError("snapshot() draws 2D states; project 3D states first")
+    colour = colour or snapshot_colouring(snaps)
     d = 2 * snaps.radius
-    coll = EllipseCollection(d, d, np.zeros_like(d), units="xy", offsets=pos,
-                             offset_transform=ax.transData, facecolor="#9ecae1",
-                             edgecolor="#3182bd", linewidth=0.3)
-    ax.add_collection(coll)
+    style = dict(units="xy", offsets=pos, offset_transform=ax.transData, linewidth=0.3)
+    if colour == "species":
+        sp = np.asarray(snaps.species)
+        face = [SPECIES_COLOURS[s % len(SPECIES_COLOURS)] for s in sp]
+        edge = [SPECIES_EDGES[s % len(SPECIES_EDGES)] for s in sp]
+        ax.add_collection(EllipseCollection(d, d, np.zeros_like(d), facecolor=face, edgecolor=edge,
+                                            **style))
+        for s in np.unique(sp):
+            ax.scatter([], [], c=SPECIES_COLOURS[s % len(SPECIES_COLOURS)],
+                       edgecolors=SPECIES_EDGES[s % len(SPECIES_EDGES)],
+                       label=f"species {s} (sigma = {d[sp == s][0]:g})")
+        ax.legend(loc="upper right", fontsize="x-small", framealpha=0.8)
+    elif colour == "spin":
+        if snaps.angular_velocity is None:
+            raise ValueError("colour='spin' needs rough grains (no angular velocities stored)")
+        omega = snaps.angular_velocity[k][:, 0]
+        scale = np.sqrt((omega**2).mean()) or 1.0
+        coll = EllipseCollection(d, d, np.zeros_like(d), cmap="coolwarm", edgecolor="#444444",
+                                 **style)
+        coll.set_array(omega / scale)
+        coll.set_clim(-2.5, 2.5)
+        ax.add_collection(coll)
+        ax.figure.colorbar(coll, ax=ax, shrink=0.7, label="omega / rms")
+    else:
+        ax.add_collection(EllipseCollection(d, d, np.zeros_like(d), facecolor="#9ecae1",
+                                            edgecolor="#3182bd", **style))
     if arrows:
         vel = snaps.velocity[k]
         idx = np.arange(len(pos))[:max_arrows]
@@ -67,6 +111,75 @@ def snapshot(ax, snaps, k: int = -1, arrows: bool = True, max_arrows: int = 4000
     ax.set_ylim(0, snaps.box[1])
     ax.set_aspect("equal")
     ax.set_title(f"tau = {snaps.tau[k]:.1f}")
+    return ax
+
+
+def _ratio_axes(ax, ylabel: str):
+    """A ratio against tau: linear up to tau = 1 (the transient), logarithmic beyond."""
+    ax.set_xscale("symlog", linthresh=1.0)
+    ax.set_xlim(left=0)
+    ax.set_xlabel("tau")
+    ax.set_ylabel(ylabel)
+    ax.legend(frameon=False, fontsize="small")
+    return ax
+
+
+def rotational_ratio(ax, rep):
+    """T_rot/T_tr of rough grains against tau, with the two-temperature theory from the same start
+    (Maxwellian, transient included) and the stationary ratio of its Sonine correction (PHYSICS.md
+    6.6-6.7)."""
+    obs = rep.observables
+    if "rotational_temperature" not in obs:
+        raise KeyError(f"{rep.path}: no rotational temperature (smooth grains)")
+    tau = obs["tau"]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = obs["rotational_temperature"] / obs["temperature"]
+    ax.plot(tau, ratio, label="simulation")
+    if "rotational_ratio_theory" in obs:
+        ax.plot(tau, obs["rotational_ratio_theory"], "k--", lw=1, label="two-temperature (Maxwellian)")
+    sonine = rep.params.get("rotational_ratio_sonine")
+    if sonine is not None and np.isfinite(sonine):
+        ax.axhline(sonine, color="k", ls=":", lw=1, label=f"Sonine stationary {sonine:.3f}")
+    return _ratio_axes(ax, "T_rot / T_tr")
+
+
+def species_temperatures(ax, rep):
+    """Each species' temperature over the last species' against tau, with Garzo and Dufty's
+    homogeneous-cooling ratios (parameters/species_temperature_theory, Maxwellian with Enskog chi_ij;
+    PHYSICS.md 2.4) as dashed lines. They hold while the gas is homogeneous; clusters part the
+    species further."""
+    obs = rep.observables
+    if "species_temperature" not in obs:
+        raise KeyError(f"{rep.path}: no species temperatures (one species)")
+    tau, ts = obs["tau"], np.asarray(obs["species_temperature"])
+    theory = np.asarray(rep.params.get("species_temperature_theory", []), dtype=float)
+    ref = ts.shape[1] - 1
+    for k in range(ref):
+        line, = ax.plot(tau, ts[:, k] / ts[:, ref], label=f"T_{k} / T_{ref}")
+        if theory.size == ts.shape[1] and np.isfinite(theory).all():
+            ax.axhline(theory[k] / theory[ref], color=line.get_color(), ls="--", lw=1,
+                       label=f"Garzo-Dufty {theory[k] / theory[ref]:.3f}")
+    return _ratio_axes(ax, "temperature ratio")
+
+
+def density_profile(ax, rep, last: float = 0.5):
+    """The number density along the gravity axis, averaged over the last ``last`` of the samples,
+    with the barometric profile (hydrostatic, local Enskog; PHYSICS.md 1.4) where the file has it
+    (elastic columns)."""
+    obs = rep.observables
+    if "density_profile" not in obs:
+        raise KeyError(f"{rep.path}: no density profile (no gravity)")
+    prof = np.asarray(obs["density_profile"])
+    z = rep.profile_position
+    mean = prof[int(len(prof) * (1 - last)):].mean(axis=0)
+    ax.plot(z, mean, "o", ms=3, label=f"simulation (last {100 * last:.0f} % of samples)")
+    if rep.profile_theory is not None:
+        ax.plot(z, rep.profile_theory, "k--", lw=1,
+                label=f"barometric, T = {rep.profile_theory_temperature:.3g}")
+    ax.set_yscale("log")
+    ax.set_xlabel("height")
+    ax.set_ylabel("number density")
+    ax.legend(frameon=False, fontsize="small")
     return ax
 
 
@@ -82,6 +195,8 @@ def velocity_histograms(ax, snaps, k: int = -1, component: int = 0, split_axis: 
     names = "xyz"
     for data, label in ((vel, "whole box"), (vel[pos >= mid], f"{names[split_axis]} >= L/2"),
                         (vel[pos < mid], f"{names[split_axis]} < L/2")):
+        if len(data) == 0:  # a settled column leaves its upper half empty
+            continue
         ax.hist(data / scale, bins=edges, histtype="step", density=True, label=label)
     ax.set_xlabel(f"v_{names[component]} / rms")
     ax.set_ylabel("probability density")
@@ -112,15 +227,23 @@ def order_parameters(ax, rep, thresholds: Optional[Dict[str, float]] = None):
     return ax
 
 
-def phase_diagram(ax, rows: Sequence[dict], x: str = "l_over_l_perp", size: float = 120.0):
-    """The phase diagram from the phase table (``edmd summarize --format json``): eps against ``x``
-    ('l_over_l_perp', 'phi', 'n' or 'box_side'), each point a pie of its class fractions, with the
-    theory boundaries L = L_perp and L = L_par drawn when x is L/L_perp."""
+def phase_diagram(ax, rows: Sequence[dict], x: str = "l_over_l_perp", size: float = 120.0,
+                  y: str = "eps"):
+    """The phase diagram from the phase table (``edmd summarize --format json``): ``y`` ('eps',
+    'beta' or 'species') against ``x`` ('l_over_l_perp', 'phi', 'n' or 'box_side'), each point a pie
+    of its class fractions, with the theory boundaries L = L_perp and L = L_par drawn when x is
+    L/L_perp and y is eps. Rows without class fractions (not_applicable scenes) are left out."""
     classes = ["kinetic", "shearing", "clustering"]
+    rows = [r for r in rows if any(r.get(c) is not None for c in classes)]
+    labels = sorted({str(r[y]) for r in rows}) if rows and isinstance(rows[0][y], str) else None
+
+    def y_of(row):
+        return labels.index(str(row[y])) if labels is not None else row[y]
+
     for row in rows:
         fractions = np.array([row.get(c) or 0.0 for c in classes])
         if not np.isfinite(fractions).all() or fractions.sum() == 0:
-            ax.scatter([row[x]], [row["eps"]], s=size / 4, c="#bbbbbb", marker="x")
+            ax.scatter([row[x]], [y_of(row)], s=size / 4, c="#bbbbbb", marker="x")
             continue
         start = 0.0
         for c, f in zip(classes, fractions / fractions.sum()):
@@ -128,19 +251,23 @@ def phase_diagram(ax, rows: Sequence[dict], x: str = "l_over_l_perp", size: floa
                 continue
             theta = np.linspace(2 * np.pi * start, 2 * np.pi * (start + f), 16)
             verts = np.column_stack([np.r_[0, np.cos(theta)], np.r_[0, np.sin(theta)]])
-            ax.scatter([row[x]], [row["eps"]], marker=verts, s=size, c=CLASS_COLOURS[c], linewidths=0)
+            ax.scatter([row[x]], [y_of(row)], marker=verts, s=size, c=CLASS_COLOURS[c], linewidths=0)
             start += f
     if x == "l_over_l_perp":
-        ax.axvline(1.0, color="k", lw=1, ls="--", label="L = L_perp")
-        ratio = [r["l_over_l_perp"] / r["l_over_l_par"] for r in rows if r["l_over_l_par"] > 0]
-        eps = [r["eps"] for r in rows if r["l_over_l_par"] > 0]
-        if ratio:
-            order = np.argsort(eps)
-            ax.plot(np.array(ratio)[order], np.array(eps)[order], "k:", lw=1, label="L = L_par")
+        if y == "eps":
+            ax.axvline(1.0, color="k", lw=1, ls="--", label="L = L_perp")
+            ratio = [r["l_over_l_perp"] / r["l_over_l_par"] for r in rows if r["l_over_l_par"] > 0]
+            eps = [r["eps"] for r in rows if r["l_over_l_par"] > 0]
+            if ratio:
+                order = np.argsort(eps)
+                ax.plot(np.array(ratio)[order], np.array(eps)[order], "k:", lw=1, label="L = L_par")
         ax.set_xscale("log")
+    if labels is not None:
+        ax.set_yticks(range(len(labels)), labels, fontsize="x-small")
+        ax.set_ylim(-0.5, len(labels) - 0.5)
     for c in classes:
         ax.scatter([], [], c=CLASS_COLOURS[c], label=c)
     ax.set_xlabel({"l_over_l_perp": "L / L_perp", "phi": "phi", "n": "N", "box_side": "L"}.get(x, x))
-    ax.set_ylabel("eps")
+    ax.set_ylabel(y)
     ax.legend(frameon=False, fontsize="small")
     return ax

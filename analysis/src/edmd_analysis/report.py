@@ -1,10 +1,13 @@
 """``python -m edmd_analysis report OUT -o REPORT``: every figure of a sweep as PNG, and an index.html
 that shows them with the sweep's parameters and phase table.
 
-Figures (one panel per grid point, first seed; at most ``max_points`` grid points):
-cooling (log-log and semi-log, with Haff's law), snapshots with velocity arrows (2D), velocity
-histograms of the whole box and the half-boxes, order parameters (classified sweeps), and the phase
-diagram (classified sweeps). The phase table and its theory columns come from OUT/phase.json, written
+Figures (one panel per grid point, first seed; at most ``max_points`` grid points), each drawn
+only where the sweep has what it shows: cooling (log-log and semi-log, with Haff's law), snapshots
+with velocity arrows (2D; grains to scale, coloured by species in mixtures and by spin in rough
+scenes), velocity histograms of the whole box and the half-boxes, T_rot/T_tr against the
+two-temperature theory (rough grains), species temperature ratios against Garzo-Dufty (mixtures),
+density profiles against the barometric one (gravity), order parameters and the phase diagram
+(classified free-cooling sweeps). The phase table and its theory columns come from OUT/phase.json, written
 by the edmd binary.
 """
 
@@ -22,12 +25,16 @@ import numpy as np  # noqa: E402
 
 from . import io, plots  # noqa: E402
 
+# The index columns that tell grid points apart (the seed aside).
+POINT_COLUMNS = ("dim", "boundary", "remedy", "n", "phi", "box_side", "eps", "beta", "species",
+                 "gravity", "wall_eps", "floor_temperature", "aspect")
+
 
 def _first_seed_per_point(index: io.Index, max_points: int):
     """Indices of the first finished replica of each grid point, in sweep order."""
     seen, chosen = set(), []
     for i in range(len(index)):
-        key = tuple(index[c][i] for c in ("dim", "boundary", "remedy", "n", "phi", "box_side", "eps"))
+        key = tuple(index[c][i] for c in POINT_COLUMNS if c in index.columns)
         if key in seen or index["status"][i] == "failed" or index["status"][i] == "missing":
             continue
         seen.add(key)
@@ -36,8 +43,19 @@ def _first_seed_per_point(index: io.Index, max_points: int):
 
 
 def _title(index: io.Index, i: int) -> str:
-    return (f"eps={index['eps'][i]:g} N={index['n'][i]} phi={index['phi'][i]:.3g} "
-            f"{index['boundary'][i]} ({index['class'][i]})")
+    extra = ""
+    col = index.columns
+    if "beta" in col and index["beta"][i] > -1:
+        extra += f" beta={index['beta'][i]:g}"
+    if "species" in col and index["species"][i]:
+        extra += f" species={index['species'][i]}"
+    if "gravity" in col and index["gravity"][i] > 0:
+        extra += f" g={index['gravity'][i]:g}"
+    if "floor_temperature" in col and index["floor_temperature"][i] > 0:
+        extra += f" floor_T={index['floor_temperature'][i]:g}"
+    # Two lines: the grid point, then the scene and the class (titles of narrow panels stay short).
+    return (f"eps={index['eps'][i]:g} N={index['n'][i]} phi={index['phi'][i]:.3g}\n"
+            f"{extra.strip()} {index['boundary'][i]} ({index['class'][i]})").replace("\n ", "\n")
 
 
 def _panels(count: int, width: float = 4.0, height: float = 3.4):
@@ -63,6 +81,16 @@ def _x_axis(rows):
         if len({r[key] for r in rows}) > 1:
             return x
     return "l_over_l_perp"
+
+
+def _y_axis(rows):
+    """The phase diagram's ordinate: eps, or the scene axis that varies when eps does not."""
+    if len({r["eps"] for r in rows}) > 1:
+        return "eps"
+    for key in ("beta", "species"):
+        if len({str(r.get(key)) for r in rows}) > 1:
+            return key
+    return "eps"
 
 
 def report(out, dest, max_points: int = 24) -> Path:
@@ -97,7 +125,18 @@ def report(out, dest, max_points: int = 24) -> Path:
             plots.velocity_histograms(ax, io.read_snapshots(index.replica_path(i)))
             ax.set_title(_title(index, i), fontsize="small")
         _save(fig, dest, "velocity-histograms", saved)
-    classified = [(rep, i) for rep, i in zip(reps, chosen) if "s_perp" in rep.observables]
+    for name, plot, needs in (("rotational-ratio", plots.rotational_ratio, "rotational_temperature"),
+                              ("species-temperatures", plots.species_temperatures, "species_temperature"),
+                              ("density-profiles", plots.density_profile, "density_profile")):
+        having = [(rep, i) for rep, i in zip(reps, chosen) if needs in rep.observables]
+        if having:
+            fig, axes = _panels(len(having))
+            for ax, (rep, i) in zip(axes, having):
+                plot(ax, rep)
+                ax.set_title(_title(index, i), fontsize="small")
+            _save(fig, dest, name, saved)
+    classified = [(rep, i) for rep, i in zip(reps, chosen)
+                  if "s_perp" in rep.observables and index["class"][i] != "not_applicable"]
     if classified:
         fig, axes = _panels(len(classified))
         for ax, (rep, i) in zip(axes, classified):
@@ -106,7 +145,7 @@ def report(out, dest, max_points: int = 24) -> Path:
         _save(fig, dest, "order-parameters", saved)
         if rows and any(r.get("kinetic") is not None for r in rows):
             fig, ax = plt.subplots(figsize=(6.5, 5))
-            plots.phase_diagram(ax, rows, x=_x_axis(rows))
+            plots.phase_diagram(ax, rows, x=_x_axis(rows), y=_y_axis(rows))
             _save(fig, dest, "phase-diagram", saved)
     page = dest / "index.html"
     page.write_text(_html(index, rows, saved))
@@ -115,7 +154,7 @@ def report(out, dest, max_points: int = 24) -> Path:
 
 def _html(index: io.Index, rows, images) -> str:
     spec = index.spec
-    head = ["eps", "n", "phi", "box_side", "boundary", "remedy", "seeds", "done", "collapsed",
+    head = ["eps", "beta", "species", "scene", "n", "phi", "box_side", "boundary", "remedy", "seeds", "done", "collapsed",
             "failed", "tau_end", "log10_t_ratio", "log10_t_haff", "l_over_l_perp", "l_over_l_par",
             "kinetic", "shearing", "clustering", "shear_onset_tau", "cluster_onset_tau"]
 

@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{run, write};
+use common::run_spec;
 
 fn read(path: &std::path::Path, dataset: &str) -> (Vec<usize>, Vec<f64>) {
     let file = hdf5::File::open(path).unwrap();
@@ -25,16 +25,7 @@ fn rough_elastic_grains_conserve_translational_plus_rotational_energy() {
                  "phi": 0.2, "n": 500}}, "stop": {{"tau_max": 20}},
                  "samples": {{"every": 2, "per_decade": 0}}, "snapshots": {{"at": [0, 10]}}}}"#
         );
-        let p = write(tmp.path(), &format!("r{dim}-{inertia}.json"), &spec);
-        let out = tmp.path().join(format!("out{dim}-{inertia}"));
-        let o = run(&[
-            "run",
-            p.to_str().unwrap(),
-            "-o",
-            out.to_str().unwrap(),
-            "-q",
-        ]);
-        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let out = run_spec(tmp.path(), &format!("out{dim}-{inertia}"), &spec);
         let d = dim as f64;
         let d_rot = if dim == 2 { 1.0 } else { 3.0 };
         // Replica 0: beta = 1 (energy conserved); replica 1: beta = 0.2 (rotational energy is lost).
@@ -74,21 +65,11 @@ fn rough_elastic_grains_conserve_translational_plus_rotational_energy() {
             );
         }
         // Smooth grains store neither.
-        let p = write(
+        let out = run_spec(
             tmp.path(),
-            "smooth.json",
+            "smooth",
             r#"{"name": "smooth", "grid": {"eps": 0.9, "phi": 0.2, "n": 100}, "stop": {"tau_max": 2}}"#,
         );
-        let out = tmp.path().join("smooth");
-        assert!(run(&[
-            "run",
-            p.to_str().unwrap(),
-            "-o",
-            out.to_str().unwrap(),
-            "-q"
-        ])
-        .status
-        .success());
         let file = hdf5::File::open(out.join("replicas/r00000.h5")).unwrap();
         assert!(!file.link_exists("observables/rotational_temperature"));
         assert!(!file.link_exists("particles/gas/angular_velocity"));
@@ -108,16 +89,7 @@ fn mixtures_from_a_spec() {
                      {"fraction": 0.2, "diameter": 0.7}],
                     [{"fraction": 0.25, "diameter": 1, "mass": 8}, {"fraction": 0.75, "diameter": 1}]]},
         "stop": {"tau_max": 6}, "samples": {"every": 2, "per_decade": 0}, "snapshots": {"at": [4]}}"#;
-    let p = write(tmp.path(), "mix.json", spec);
-    let out = tmp.path().join("out");
-    let o = run(&[
-        "run",
-        p.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-        "-q",
-    ]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let out = run_spec(tmp.path(), "out", spec);
     // (fraction, diameter, mass if given) per species.
     type Mixture<'a> = &'a [(f64, f64, Option<f64>)];
     let cases: [(usize, Mixture); 4] = [
@@ -210,16 +182,7 @@ fn heated_column_from_a_spec() {
     let spec = r#"{"name": "column", "grid": {"boundary": "channel", "eps": [1, 0.9], "n": 250, "box": 120,
         "aspect": [1.6666666666666667, 1], "gravity": 0.1, "floor_temperature": 2, "wall_eps": 0.8},
         "stop": {"tau_max": 300}, "samples": {"every": 20, "per_decade": 0}, "classify": {}}"#;
-    let p = write(tmp.path(), "column.json", spec);
-    let out = tmp.path().join("out");
-    let o = run(&[
-        "run",
-        p.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-        "-q",
-    ]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let out = run_spec(tmp.path(), "out", spec);
     for k in 0..2 {
         let f = out.join(format!("replicas/r{k:05}.h5"));
         let (_, edges) = read(&f, "particles/gas/box/edges");

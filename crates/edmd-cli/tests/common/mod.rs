@@ -37,6 +37,22 @@ pub fn small_spec(name: &str, eps: &[f64], n: usize, seeds: u32, tau: f64) -> St
     )
 }
 
+/// Writes `spec` into `dir/<name>.json`, runs it into `dir/<name>` (quiet) and returns that output
+/// directory; panics with edmd's stderr when the run fails.
+pub fn run_spec(dir: &Path, name: &str, spec: &str) -> PathBuf {
+    let p = write(dir, &format!("{name}.json"), spec);
+    let out = dir.join(name);
+    let o = run(&[
+        "run",
+        p.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "-q",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    out
+}
+
 /// Writes `text` into `dir/name` and returns the path.
 pub fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
     let p = dir.join(name);

@@ -13,7 +13,8 @@
 //! /particles/gas/species     [N] species index; /particles/gas/diameter [N]   (mixtures)
 //! /observables/<name>        step [s], time [s], value [s]   (temperature, ln_temperature, tau, …)
 //! /observables/species_temperature  step [s], time [s], value [s, S]   (mixtures)
-//! /observables/density_profile  step [s], time [s], value [s, B], position [B]   (gravity)
+//! /observables/density_profile  step [s], time [s], value [s, B], position [B]; theory [B] (gravity)
+//! /observables/rotational_ratio_theory  step [s], time [s], value [s]   (rough grains)
 //! /parameters                schema_version, spec (JSON), spec_hash, engine_version, git_commit,
 //!                            replica parameters, seed, status, message and final values as attributes;
 //!                            /parameters/spec holds every spec field as an attribute.
@@ -25,6 +26,7 @@ use hdf5::types::VarLenUnicode;
 use hdf5::{Group, Location};
 
 mod read;
+mod scene;
 use ndarray::{Array1, Array2, Array3};
 pub use read::{check_file, read_record};
 
@@ -146,6 +148,25 @@ impl Writer {
         self.series_1d(&g, "step", step)?;
         self.series_1d(&g, "time", time)?;
         self.series_1d(&g, "value", value)
+    }
+
+    /// An H5MD time-dependent element with a row per sample: `value` [k, columns]; returns its group.
+    fn observable_2d(
+        &self,
+        parent: &Group,
+        name: &str,
+        step: &[i64],
+        time: &[f64],
+        rows: &[Vec<f64>],
+    ) -> hdf5::Result<Group> {
+        let g = parent.create_group(name)?;
+        self.series_1d(&g, "step", step)?;
+        self.series_1d(&g, "time", time)?;
+        let columns = rows.first().map_or(0, Vec::len);
+        let flat: Vec<f64> = rows.iter().flatten().copied().collect();
+        let arr = Array2::from_shape_vec((rows.len(), columns), flat).expect("rows of one length");
+        g.new_dataset_builder().with_data(&arr).create("value")?;
+        Ok(g)
     }
 
     /// An H5MD time-dependent per-particle element: `value` [k, N, D].
@@ -273,6 +294,7 @@ fn write_file(file: &hdf5::File, spec: &Spec, r: &Replica, out: &Outcome) -> hdf
             .create("species_temperature_theory")?
             .write(&theory[..])?;
     }
+    scene::rotational_parameters(&p, spec, r)?;
     attr_f64(&p, "gravity", r.gravity)?;
     attr_f64(&p, "wall_eps", r.wall_eps)?;
     attr_f64(&p, "floor_temperature", r.floor_temperature)?;
@@ -409,23 +431,25 @@ fn write_file(file: &hdf5::File, spec: &Spec, r: &Replica, out: &Outcome) -> hdf
         )?;
     }
     if !s.species_temperature.is_empty() && s.species_temperature.len() == s.step.len() {
-        let k = s.species_temperature[0].len();
-        let g = obs.create_group("species_temperature")?;
-        w.series_1d(&g, "step", &s.step)?;
-        w.series_1d(&g, "time", &s.time)?;
-        let flat: Vec<f64> = s.species_temperature.iter().flatten().copied().collect();
-        let arr = Array2::from_shape_vec((s.step.len(), k), flat).expect("species shape");
-        g.new_dataset_builder().with_data(&arr).create("value")?;
+        w.observable_2d(
+            &obs,
+            "species_temperature",
+            &s.step,
+            &s.time,
+            &s.species_temperature,
+        )?;
     }
     if out.profile_bins > 0 && s.density_profile.len() == s.step.len() {
-        // n(z) per sample; `position` holds the bin centres along the last axis.
+        // n(z) per sample; `position` holds the bin centres along the last axis, `theory` the
+        // barometric profile of an elastic column (PHYSICS.md §1.4).
         let bins = out.profile_bins;
-        let g = obs.create_group("density_profile")?;
-        w.series_1d(&g, "step", &s.step)?;
-        w.series_1d(&g, "time", &s.time)?;
-        let flat: Vec<f64> = s.density_profile.iter().flatten().copied().collect();
-        let arr = Array2::from_shape_vec((s.step.len(), bins), flat).expect("profile shape");
-        g.new_dataset_builder().with_data(&arr).create("value")?;
+        let g = w.observable_2d(
+            &obs,
+            "density_profile",
+            &s.step,
+            &s.time,
+            &s.density_profile,
+        )?;
         let height = out.box_len.last().copied().unwrap_or(0.0);
         let centres: Vec<f64> = (0..bins)
             .map(|b| (b as f64 + 0.5) * height / bins as f64)
@@ -433,7 +457,9 @@ fn write_file(file: &hdf5::File, spec: &Spec, r: &Replica, out: &Outcome) -> hdf
         g.new_dataset_builder()
             .with_data(&Array1::from(centres))
             .create("position")?;
+        scene::profile_theory(&g, r, s, bins)?;
     }
+    scene::rotational_observables(&w, &obs, spec, r, s)?;
     let collisions: Vec<f64> = s.step.iter().map(|&c| c as f64).collect();
     w.observable(&obs, "collisions", &s.step, &s.time, &collisions)?;
     let walls: Vec<f64> = s.wall_collisions.iter().map(|&c| c as f64).collect();

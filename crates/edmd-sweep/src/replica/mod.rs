@@ -3,7 +3,7 @@
 
 use std::time::Instant;
 
-use edmd_core::theory::{haff_rate, temperature_ratios, Component, PairCorrelation};
+use edmd_core::theory::haff_rate;
 use edmd_core::{
     Boundary, Channel, CollisionRule, Column, ConstantRestitution, Container, EdmdError, Periodic,
     RandomRotation, Rough, TcModel, ThesisRestitution, ThresholdRestitution, Walls,
@@ -13,7 +13,11 @@ use crate::classify::{critical_box_sides, Class, Classification, OrderSeries, Th
 pub use crate::record::Status;
 use crate::spec::{viscoelastic, BoundaryKind, Remedy, Replica, RuleSpec, Spec};
 
+mod scene_theory;
 mod simulate;
+pub use scene_theory::{
+    density_profile_theory, rotational_ratio_theory, species_temperature_theory, ProfileTheory,
+};
 use simulate::simulate;
 
 /// Observables sampled at the points of the schedule.
@@ -254,29 +258,6 @@ fn by_roughness<const D: usize, B: Boundary, R: CollisionRule>(
     } else {
         simulate::<D, B, R>(spec, r, rule, progress)
     }
-}
-
-/// Garzó & Dufty's T_k/T of each species of a mixture in the homogeneous cooling state (Maxwellian,
-/// Enskog χ_ij at the replica's φ; PHYSICS.md §2.4), T the mixture's temperature; NaN where it does not
-/// apply (rough grains, or a rule other than constant restitution).
-pub fn species_temperature_theory(spec: &Spec, r: &Replica) -> Vec<f64> {
-    let Some(m) = &r.species else {
-        return Vec::new();
-    };
-    if r.rough() || !matches!(spec.rule, RuleSpec::Constant {}) {
-        return vec![f64::NAN; m.len()];
-    }
-    let counts = r.species_counts();
-    let components: Vec<Component> = m
-        .iter()
-        .zip(&counts)
-        .map(|(s, &c)| Component {
-            fraction: c as f64 / r.n as f64,
-            diameter: s.diameter,
-            mass: s.mass_in(r.dim),
-        })
-        .collect();
-    temperature_ratios(r.dim, r.eps, &components, PairCorrelation::Enskog(r.phi()))
 }
 
 /// What linear theory says about a replica's box (critical sizes halved when any axis has walls).

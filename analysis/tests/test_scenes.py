@@ -1,0 +1,148 @@
+"""The ready scene specs (sweeps/rough-beta.json, mixture-mass-ratio.json, heated-column.json) run as
+they are, their files read with h5py and pyh5md, and the report draws each scene's figures with the
+theory the files carry."""
+
+import json
+
+import matplotlib
+
+matplotlib.use("Agg")
+import edmd_analysis as ea  # noqa: E402
+import h5py  # noqa: E402
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+import pytest  # noqa: E402
+from conftest import REPO, run_edmd  # noqa: E402
+from edmd_analysis import plots  # noqa: E402
+from edmd_analysis import report as report_module  # noqa: E402
+
+READY = ("rough-beta", "mixture-mass-ratio", "heated-column")
+# The figures each ready spec's report must draw beyond the common ones.
+FIGURES = {
+    "rough-beta": {"rotational-ratio.png", "phase-diagram.png"},
+    "mixture-mass-ratio": {"species-temperatures.png", "phase-diagram.png"},
+    "heated-column": {"density-profiles.png"},
+}
+
+
+@pytest.fixture(scope="session")
+def ready(tmp_path_factory):
+    """Each ready spec run once into its own directory: {name: OUT}."""
+    root = tmp_path_factory.mktemp("ready")
+    out = {}
+    for name in READY:
+        run_edmd("run", REPO / "sweeps" / f"{name}.json", "-o", root / name, "-q")
+        out[name] = root / name
+    return out
+
+
+@pytest.mark.parametrize("name", READY)
+def test_ready_spec_files_read_with_h5py_and_pyh5md(ready, name):
+    index = ea.read_index(ready[name])
+    assert len(index) > 0 and set(index["status"]) == {"done"}
+    pyh5md = pytest.importorskip("pyh5md")
+    for i in range(len(index)):
+        path = index.replica_path(i)
+        rep = ea.read_replica(path)
+        snaps = ea.read_snapshots(path)
+        with pyh5md.File(path, "r") as f, h5py.File(path, "r") as g:
+            gas = f.particles_group("gas")
+            pos = pyh5md.element(gas, "position")
+            np.testing.assert_array_equal(pos.value[()], snaps.position)
+            if name == "rough-beta" and rep.params["beta"] > -1:
+                spin = pyh5md.element(gas, "angular_velocity")
+                assert spin.value.shape == (len(snaps.step), int(rep.params["n"]), 1)
+                el = pyh5md.element(f["observables"], "rotational_temperature")
+                np.testing.assert_array_equal(el.value[()], rep.observables["rotational_temperature"])
+            if name == "mixture-mass-ratio":
+                np.testing.assert_array_equal(gas["species"][()], snaps.species)
+                assert pyh5md.element(f["observables"], "species_temperature").value.shape[1] == 2
+            if name == "heated-column":
+                el = pyh5md.element(f["observables"], "density_profile")
+                assert el.value.shape == (len(el.step), len(g["observables/density_profile/position"]))
+
+
+def test_rough_files_carry_both_theories(ready):
+    """Each rough replica has the Maxwellian two-temperature ratio (observable, from its own start) and
+    the Sonine stationary ratio, which lies below the Maxwellian one by 0-6 % (PHYSICS.md 6.7)."""
+    index = ea.read_index(ready["rough-beta"])
+    for i in range(len(index)):
+        rep = ea.read_replica(index.replica_path(i))
+        if rep.params["beta"] == -1:
+            assert "rotational_ratio_theory" not in rep.observables
+            continue
+        maxwell, sonine = rep.params["rotational_ratio_theory"], rep.params["rotational_ratio_sonine"]
+        assert 0.94 * maxwell < sonine < 1.01 * maxwell, (rep.params["beta"], maxwell, sonine)
+        curve = rep.observables["rotational_ratio_theory"]
+        assert curve[0] == 0.0  # spins start at rest
+        np.testing.assert_allclose(curve[-1], maxwell, rtol=1e-6)
+
+
+def test_elastic_column_theory_holds_the_columns_grains(ready):
+    """The barometric profile in the elastic column's file integrates to its N grains, at the mean
+    temperature of the second half (the floor's 2, within 3 %); inelastic columns carry none."""
+    index = ea.read_index(ready["heated-column"])
+    for i in range(len(index)):
+        rep = ea.read_replica(index.replica_path(i))
+        if rep.params["eps"] != 1:
+            assert rep.profile_theory is None
+            continue
+        sides = np.asarray(rep.params["box_sides"])
+        width = rep.profile_position[1] - rep.profile_position[0]
+        np.testing.assert_allclose(rep.profile_theory.sum() * width * sides[0], rep.params["n"], rtol=1e-3)
+        assert abs(rep.profile_theory_temperature / 2 - 1) < 0.03
+
+
+@pytest.mark.parametrize("name", READY)
+def test_report_draws_the_scene_figures(ready, name, tmp_path):
+    # Four grid points keep the test short and include a rough, a mixed and an elastic column point.
+    page = report_module.report(ready[name], tmp_path / "rep", max_points=4)
+    names = {p.name for p in (tmp_path / "rep").glob("*.png")}
+    assert FIGURES[name] <= names, names
+    others = set().union(*FIGURES.values()) - FIGURES[name] - {"phase-diagram.png"}
+    assert not (others & names), names
+    text = page.read_text()
+    for n in names:
+        assert f'src="{n}"' in text
+    rows = json.loads((ready[name] / "phase.json").read_text())
+    assert text.count("<tr>") == 1 + len(rows)  # the phase table has every point
+
+
+def test_snapshots_colour_by_species_and_spin(ready, tmp_path):
+    index = ea.read_index(ready["mixture-mass-ratio"])
+    snaps = ea.read_snapshots(index.replica_path(0))
+    assert plots.snapshot_colouring(snaps) == "species"
+    ax = plots.snapshot(plt.figure().gca(), snaps, k=0)
+    faces = ax.collections[0].get_facecolors()
+    assert len(faces) == len(snaps.species)
+    light, heavy = faces[snaps.species == 0], faces[snaps.species == 1]
+    assert not np.allclose(light[0], heavy[0])
+    assert [t.get_text() for t in ax.get_legend().get_texts()] == [
+        "species 0 (sigma = 1)", "species 1 (sigma = 1.4)"]
+    # Drawn to scale: the larger species' disks are 1.4 times wider.
+    widths = ax.collections[0]._widths
+    np.testing.assert_allclose(widths[snaps.species == 1].max() / widths[snaps.species == 0].max(), 1.4)
+    plt.close("all")
+    rough = ea.read_index(ready["rough-beta"])
+    k = int(np.flatnonzero(rough["beta"] == 0.5)[0])
+    snaps = ea.read_snapshots(rough.replica_path(k))
+    assert plots.snapshot_colouring(snaps) == "spin"
+    ax = plots.snapshot(plt.figure().gca(), snaps, k=-1)
+    np.testing.assert_allclose(ax.collections[0].get_array(),
+                               snaps.angular_velocity[-1][:, 0]
+                               / np.sqrt((snaps.angular_velocity[-1][:, 0] ** 2).mean()))
+    plt.close("all")
+    smooth = ea.read_snapshots(rough.replica_path(int(np.flatnonzero(rough["beta"] == -1)[0])))
+    assert plots.snapshot_colouring(smooth) == "plain"
+    with pytest.raises(ValueError, match="rough"):
+        plots.snapshot(plt.figure().gca(), smooth, colour="spin")
+    plt.close("all")
+
+
+def test_scene_plots_name_what_is_missing(sweep):
+    rep = ea.read_replica(sweep / "replicas" / "r00000.h5")
+    for plot, what in ((plots.rotational_ratio, "smooth"), (plots.species_temperatures, "one species"),
+                       (plots.density_profile, "gravity")):
+        with pytest.raises(KeyError, match=what):
+            plot(plt.figure().gca(), rep)
+    plt.close("all")
