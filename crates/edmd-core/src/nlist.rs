@@ -28,6 +28,10 @@ pub(crate) struct NeighbourLists<const D: usize> {
     cap: usize,
     len: Vec<u32>,
     items: Vec<u32>,
+    /// The neighbours a renewal found, before they replace the old list.
+    pub fresh: Vec<u32>,
+    /// The old list during a renewal.
+    old: Vec<u32>,
 }
 
 impl<const D: usize> NeighbourLists<D> {
@@ -42,6 +46,8 @@ impl<const D: usize> NeighbourLists<D> {
             cap,
             len: vec![0; n],
             items: vec![0; n * cap],
+            fresh: Vec::new(),
+            old: Vec::new(),
         }
     }
 
@@ -50,6 +56,14 @@ impl<const D: usize> NeighbourLists<D> {
     pub fn of(&self, i: usize) -> &[u32] {
         let start = i * self.cap;
         &self.items[start..start + self.len[i] as usize]
+    }
+
+    /// Asks for the first cache line of slot `i`'s list (the next event's particle will scan it).
+    #[inline(always)]
+    pub fn prefetch(&self, i: usize) {
+        if let Some(first) = self.items.get(i * self.cap) {
+            crate::prefetch::prefetch(first);
+        }
     }
 
     /// Empties every list.
@@ -91,14 +105,36 @@ impl<const D: usize> NeighbourLists<D> {
         }
     }
 
-    /// Takes `i` out of all its neighbours' lists and empties its own.
-    pub fn detach(&mut self, i: usize) {
-        let start = i * self.cap;
-        for k in 0..self.len[i] as usize {
-            let j = self.items[start + k];
-            self.remove(j as usize, i as u32);
+    /// Makes [`Self::fresh`] slot `i`'s list. Only the partners whose neighbourhood changed are
+    /// touched: `i` leaves the lists of old neighbours that are not among the new ones and joins
+    /// those of new ones (a renewal after a short flight changes a few of some 10–15, so most
+    /// partners' lists, which lie in lines far from `i`'s, are not read at all).
+    pub fn renew(&mut self, i: usize) {
+        let mut old = std::mem::take(&mut self.old);
+        let fresh = std::mem::take(&mut self.fresh);
+        old.clear();
+        old.extend_from_slice(self.of(i));
+        for &j in &old {
+            if !fresh.contains(&j) {
+                self.remove(j as usize, i as u32);
+            }
         }
-        self.len[i] = 0;
+        while fresh.len() > self.cap {
+            self.grow();
+        }
+        for &j in &fresh {
+            if !old.contains(&j) {
+                if self.len[j as usize] as usize == self.cap {
+                    self.grow();
+                }
+                self.push(j as usize, i as u32);
+            }
+        }
+        let start = i * self.cap;
+        self.items[start..start + fresh.len()].copy_from_slice(&fresh);
+        self.len[i] = fresh.len() as u32;
+        self.old = old;
+        self.fresh = fresh;
     }
 
     /// Widens every list by 16 entries (one cache line): the longest list sets the stride, and
@@ -154,7 +190,10 @@ impl<const D: usize> NeighbourLists<D> {
 
     /// Heap bytes held by the lists.
     pub fn heap_bytes(&self) -> usize {
-        4 * (self.items.capacity() + self.len.capacity())
+        4 * (self.items.capacity()
+            + self.len.capacity()
+            + self.fresh.capacity()
+            + self.old.capacity())
             + self.centre.capacity() * std::mem::size_of::<Vector<D>>()
     }
 }
@@ -164,7 +203,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn lists_stay_symmetric_through_growth_detach_and_permutation() {
+    fn lists_stay_symmetric_through_growth_renewal_and_permutation() {
         // 39 neighbours of slot 0 make the lists grow twice (16 -> 32 -> 48).
         let mut nl = NeighbourLists::<2>::new(40, 0.3, 1.0);
         for j in 1..40 {
@@ -174,10 +213,23 @@ mod tests {
         assert_eq!(nl.of(0).len(), 39);
         assert_eq!(nl.of(0), (1..40).collect::<Vec<u32>>().as_slice());
         assert_eq!(nl.of(4), &[0, 3]);
-        nl.detach(3);
+        // A renewal with no neighbours takes 3 out of every list.
+        nl.fresh.clear();
+        nl.renew(3);
         assert!(nl.of(3).is_empty());
         assert_eq!(nl.of(4), &[0]);
         assert!(!nl.of(0).contains(&3));
+        // One that keeps 0 and adds 5: 0's list is untouched, 5 gains 4.
+        let before = nl.of(0).to_vec();
+        nl.fresh = vec![5, 0];
+        nl.renew(4);
+        assert_eq!(nl.of(4), &[5, 0]);
+        assert_eq!(nl.of(0), before.as_slice());
+        assert_eq!(nl.of(5), &[0, 4]);
+        nl.fresh = vec![0];
+        nl.renew(4);
+        assert_eq!(nl.of(5), &[0]);
+        assert_eq!(nl.of(4), &[0]);
         // Reverse the slots.
         let perm: Vec<u32> = (0..40).rev().collect();
         let inv = perm.clone();

@@ -15,6 +15,10 @@ pub struct Particle<const D: usize> {
     /// Radius.
     pub radius: f64,
     pub(crate) next_in_cell: u32,
+    /// Collisions suffered; a partner's stored count that differs marks a stale candidate. Kept
+    /// here, in the record a prediction reads anyway, rather than beside the event slot (in the
+    /// padding of the record, so it costs no memory).
+    pub(crate) counter: u32,
 }
 
 impl<const D: usize> crate::cells::CellLink for Particle<D> {
@@ -40,3 +44,8 @@ pub struct ParticleInit<const D: usize> {
     /// Mass (> 0).
     pub mass: f64,
 }
+
+// One particle record per cache line in 3D, and no larger than its constructor's record (the
+// conversion in `Simulation::new` reuses that allocation).
+const _: () = assert!(std::mem::size_of::<Particle<3>>() == 64);
+const _: () = assert!(std::mem::size_of::<Particle<2>>() == std::mem::size_of::<ParticleInit<2>>());

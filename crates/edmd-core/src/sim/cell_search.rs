@@ -227,7 +227,8 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         // (the common case in a gas) means no old neighbour will be touched; only a stale one
         // loses the bound and calls for a full search.
         let e = self.meta[i].ev;
-        let valid = e.partner == NONE || self.meta[e.partner as usize].counter == e.partner_count;
+        let valid =
+            e.partner == NONE || self.particles[e.partner as usize].counter == e.partner_count;
         let (t, partner) = if valid {
             self.search_cells(
                 i,

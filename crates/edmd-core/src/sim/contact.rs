@@ -73,8 +73,8 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         self.particles[i].r0 = pos_i - vi * now;
         self.particles[j].vel = vj;
         self.particles[j].r0 = pos_j - vj * now;
-        self.meta[i].counter = self.meta[i].counter.wrapping_add(1);
-        self.meta[j].counter = self.meta[j].counter.wrapping_add(1);
+        self.particles[i].counter = self.particles[i].counter.wrapping_add(1);
+        self.particles[j].counter = self.particles[j].counter.wrapping_add(1);
         self.counters.pair_collisions += 1;
         // Physical momentum transfer (the simulated one carries the deep-cooling scale).
         self.counters.virial += impulse * dist * self.inv_scale;
@@ -105,7 +105,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         // Keep the position continuous: r0 + v t is the non-gravitational part of the trajectory.
         p.r0[axis] += (p.vel[axis] - v_new) * now;
         p.vel[axis] = v_new;
-        self.meta[i].counter = self.meta[i].counter.wrapping_add(1);
+        self.particles[i].counter = self.particles[i].counter.wrapping_add(1);
         self.counters.wall_collisions += 1;
     }
 
@@ -129,7 +129,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         // Keep the position continuous on every axis.
         p.r0 += (p.vel - v_new) * now;
         p.vel = v_new;
-        self.meta[i].counter = self.meta[i].counter.wrapping_add(1);
+        self.particles[i].counter = self.particles[i].counter.wrapping_add(1);
         self.counters.wall_collisions += 1;
     }
 

@@ -89,8 +89,8 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
 
     /// Marks every particle's pending events stale: each particle counts one more collision.
     fn invalidate_events(&mut self) {
-        for m in &mut self.meta {
-            m.counter = m.counter.wrapping_add(1);
+        for p in &mut self.particles {
+            p.counter = p.counter.wrapping_add(1);
         }
     }
 }

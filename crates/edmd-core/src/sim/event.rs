@@ -48,6 +48,11 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         if let Some(next) = self.calendar.next_hint() {
             crate::prefetch::prefetch(&self.particles[next as usize]);
             crate::prefetch::prefetch(&self.meta[next as usize]);
+            if S::LISTS {
+                if let Some(nl) = &self.nl {
+                    nl.prefetch(next as usize);
+                }
+            }
         }
         debug_assert!(t >= self.now, "event in the past: {t} < {}", self.now);
         self.now = t;
@@ -94,7 +99,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         let e = &self.meta[i].ev;
         if e.coll_t <= e.aux_t {
             let j = e.partner as usize;
-            if self.meta[j].counter == e.partner_count {
+            if self.particles[j].counter == e.partner_count {
                 Event::Collision(j)
             } else {
                 Event::Stale
@@ -107,39 +112,61 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     /// Full prediction for slot `i` (already advanced to now), then reschedule it.
     #[inline]
     pub(super) fn predict<S: Search>(&mut self, i: usize) {
-        let (coll_t, partner) = self.search::<S>(i);
-        self.store::<S>(i, coll_t, partner);
+        let t = self.predict_event::<S>(i);
+        self.calendar.schedule(i as u32, t);
     }
 
     /// Records the candidate `(coll_t, partner)` of slot `i` and files its next event.
     #[inline]
     pub(super) fn store<S: Search>(&mut self, i: usize, coll_t: f64, partner: u32) {
-        let t = self.set_event::<S>(i, coll_t, partner);
+        let aux = self.aux_event::<S>(i);
+        let t = self.set_event(i, coll_t, partner, aux);
         self.calendar.schedule(i as u32, t);
     }
 
-    /// Earliest contact of slot `i` (at now) with any neighbour.
+    /// Predicts slot `i`'s next event and records it without filing it; returns its time.
     #[inline]
-    pub(super) fn search<S: Search>(&self, i: usize) -> (f64, u32) {
+    pub(super) fn predict_event<S: Search>(&mut self, i: usize) -> f64 {
+        let aux = self.aux_event::<S>(i);
+        let (coll_t, partner) = self.search::<S>(i, aux.0);
+        self.set_event(i, coll_t, partner, aux)
+    }
+
+    /// Earliest contact of slot `i` (at now) with any neighbour. In list mode only contacts up to
+    /// `horizon` (the particle's own next shell exit or wall contact, after which it searches again)
+    /// are sought; cell mode finds the earliest whatever its time, since crossings rely on it.
+    #[inline]
+    pub(super) fn search<S: Search>(&self, i: usize, horizon: f64) -> (f64, u32) {
         let none = (f64::INFINITY, NONE);
         match &self.nl {
-            Some(nl) if S::LISTS => self.search_list(nl, i, none),
+            Some(nl) if S::LISTS => self.search_list(nl, i, none, horizon),
             _ => self.search_cells(i, None, none),
         }
     }
 
-    /// Records particle `i`'s collision candidate and its next crossing, shell exit or wall contact;
-    /// returns the earlier of the two.
+    /// Slot `i`'s next crossing, shell exit or wall contact.
     #[inline]
-    pub(super) fn set_event<S: Search>(&mut self, i: usize, coll_t: f64, partner: u32) -> f64 {
-        let (aux_t, aux) = match &self.nl {
+    pub(super) fn aux_event<S: Search>(&self, i: usize) -> (f64, Aux) {
+        match &self.nl {
             Some(nl) if S::LISTS => self.aux_event_list(nl, i),
             _ => self.aux_event_cells(i),
-        };
+        }
+    }
+
+    /// Records particle `i`'s collision candidate and its next crossing, shell exit or wall contact
+    /// `(aux_t, aux)`; returns the earlier of the two.
+    #[inline]
+    pub(super) fn set_event(
+        &mut self,
+        i: usize,
+        coll_t: f64,
+        partner: u32,
+        (aux_t, aux): (f64, Aux),
+    ) -> f64 {
         let partner_count = if partner == NONE {
             0
         } else {
-            self.meta[partner as usize].counter
+            self.particles[partner as usize].counter
         };
         self.meta[i].ev = super::EventSlot {
             coll_t,

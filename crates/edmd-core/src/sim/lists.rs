@@ -26,7 +26,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                 .insert(&mut self.particles, i as u32, self.grid.index(&c));
         }
         for i in 0..self.particles.len() {
-            self.gather(&mut nl, i, true);
+            self.gather(&mut nl, i, true, |nl, j| nl.link(i, j as usize));
         }
         self.nl = Some(nl);
     }
@@ -52,9 +52,15 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         pos
     }
 
-    /// Links slot `i` with every particle whose shell centre lies within `σ + δ` of its own, found in
+    /// Hands `found` every particle whose shell centre lies within `σ + δ` of slot `i`'s, found in
     /// the 3^D cells around `i`'s cell; with `later_only`, only slots above `i` (full builds).
-    pub(super) fn gather(&self, nl: &mut NeighbourLists<D>, i: usize, later_only: bool) {
+    pub(super) fn gather(
+        &self,
+        nl: &mut NeighbourLists<D>,
+        i: usize,
+        later_only: bool,
+        mut found: impl FnMut(&mut NeighbourLists<D>, u32),
+    ) {
         let ci = self.meta[i].cell;
         let centre = nl.centre[i];
         let ri = self.particles[i].radius;
@@ -68,15 +74,21 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             face2[a][2] = (lo + self.grid.side[a] - centre[a]).powi(2);
         }
         let far = nl.max_reach * nl.max_reach * (1.0 + 1e-9);
-        let out_of_reach = |code: usize| {
-            let mut rest = code;
-            let mut d2 = 0.0;
-            for f in &face2 {
-                d2 += f[rest % 3];
-                rest /= 3;
+        // The squared distance to each neighbour cell, by its code Σ_a digit_a 3^a (the order of
+        // `grid.full`), built axis by axis in place: entry k of the first 3^a expands into
+        // k + digit·3^a (higher k first, so that no entry is overwritten before it is read).
+        let mut cell_d2 = [0.0f64; 27];
+        let mut filled = 1;
+        for f in &face2 {
+            for k in (0..filled).rev() {
+                let base = cell_d2[k];
+                for (digit, face) in f.iter().enumerate() {
+                    cell_d2[digit * filled + k] = base + face;
+                }
             }
-            d2 > far
-        };
+            filled *= 3;
+        }
+        let out_of_reach = |code: usize| cell_d2[code] > far;
         // The first member of each neighbour cell, all loads started before any list is walked.
         let mut firsts = [NONE; 27];
         let mut count = 0;
@@ -106,6 +118,8 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                 crate::prefetch::prefetch(&nl.centre[k as usize]);
             }
         }
+        // Centres farther than the reach from every periodic face have no neighbour across one.
+        let wrap = !self.centre_far_from_periodic_faces(&centre, nl.max_reach);
         for &first in &firsts[..count] {
             let mut k = first;
             while k != NONE {
@@ -119,10 +133,14 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                 if j == i || (later_only && j < i) {
                     continue;
                 }
-                let d = self.image_near(&centre, &nl.centre[j]) - nl.centre[j];
+                let d = if wrap {
+                    self.image_near(&centre, &nl.centre[j]) - nl.centre[j]
+                } else {
+                    centre - nl.centre[j]
+                };
                 let reach = ri + pj.radius + nl.skin;
                 if d.norm_squared() < reach * reach {
-                    nl.link(i, j);
+                    found(nl, j as u32);
                 }
             }
         }
@@ -135,7 +153,6 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         let Some(mut nl) = self.nl.take() else {
             return;
         };
-        nl.detach(i);
         let pos = self.wrapped_now(i);
         nl.centre[i] = pos;
         let c = self.grid.coords_of(&pos);
@@ -146,37 +163,92 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                 .insert(&mut self.particles, i as u32, self.grid.index(&c));
             self.meta[i].cell = c;
         }
-        self.gather(&mut nl, i, false);
+        nl.fresh.clear();
+        self.gather(&mut nl, i, false, |nl, j| nl.fresh.push(j));
+        nl.renew(i);
         self.nl = Some(nl);
         self.predict::<Lists>(i);
     }
 
-    /// Earliest contact of slot `i` (at now) with its listed neighbours.
+    /// Earliest contact of slot `i` (at now) with its listed neighbours, of those before `horizon`
+    /// (absolute time; the particle's shell exit or wall contact, which comes first otherwise and
+    /// is followed by a new search).
     #[inline]
     pub(super) fn search_list(
         &self,
         nl: &NeighbourLists<D>,
         i: usize,
-        mut best: (f64, u32),
+        best: (f64, u32),
+        horizon: f64,
     ) -> (f64, u32) {
-        let now = self.now;
-        let pi = self.particles[i];
-        let pos_i = pi.r0 + pi.vel * now;
-        let vi2 = pi.vel.norm_squared();
         let list = nl.of(i);
         // Ask for every partner's cache line at once: their loads then overlap.
         for &j in list {
             crate::prefetch::prefetch(&self.particles[j as usize]);
         }
+        if self.far_from_periodic_faces(nl, i) {
+            self.scan_list::<false>(list, i, best, horizon)
+        } else {
+            self.scan_list::<true>(list, i, best, horizon)
+        }
+    }
+
+    /// Whether no listed partner of `i` can need a periodic image: its shell centre lies farther
+    /// than a list's reach plus both shells from every periodic face. A listed partner's centre is
+    /// then inside the box, and both particles within their shells, so their raw separation is
+    /// below half the box and equals the nearest image that [`Self::image_near`] would take.
+    #[inline(always)]
+    fn far_from_periodic_faces(&self, nl: &NeighbourLists<D>, i: usize) -> bool {
+        self.centre_far_from_periodic_faces(&nl.centre[i], nl.max_reach + nl.skin)
+    }
+
+    /// Whether `c` lies farther than `margin` (< half the box) from every periodic face: then every
+    /// point within `margin` of it is its own nearest image.
+    #[inline(always)]
+    fn centre_far_from_periodic_faces(&self, c: &Vector<D>, margin: f64) -> bool {
+        (0..D).all(|a| {
+            B::is_wall(a)
+                || (margin < self.half_box[a] && c[a] > margin && c[a] < self.box_len[a] - margin)
+        })
+    }
+
+    /// The list scan of [`Self::search_list`], with (`WRAP`) or without nearest images.
+    #[inline(always)]
+    fn scan_list<const WRAP: bool>(
+        &self,
+        list: &[u32],
+        i: usize,
+        mut best: (f64, u32),
+        horizon: f64,
+    ) -> (f64, u32) {
+        let now = self.now;
+        let pi = self.particles[i];
+        let pos_i = pi.r0 + pi.vel * now;
+        let vi2 = pi.vel.norm_squared();
+        let mut limit = (best.0 - now).min(horizon - now);
         for &j in list {
             let pj = &self.particles[j as usize];
             let pos_j = pj.r0 + pj.vel * now;
             // The nearest image, exactly as `collide` takes it.
-            let dr = self.image_near(&pos_i, &pos_j) - pos_j;
+            let dr = if WRAP {
+                self.image_near(&pos_i, &pos_j) - pos_j
+            } else {
+                pos_i - pos_j
+            };
             let dv = pi.vel - pj.vel;
-            let t = now + pair_time(&dr, &dv, pi.radius + pj.radius, vi2 + pj.vel.norm_squared());
-            if t < best.0 {
-                best = (t, j);
+            let sigma = pi.radius + pj.radius;
+            // A contact at t ≤ limit needs b = r·v < 0 and σ² − r² = 2bt + v²t² ≥ 2b·limit: a test
+            // without the root that rejects most partners, with a margin for round-off so that it
+            // never rejects one the root would keep.
+            let b = dr.dot(&dv);
+            let room = sigma * sigma - dr.norm_squared();
+            let bound = 2.0 * b * limit;
+            if (b < 0.0) & (room >= bound - 1e-9 * bound.abs()) {
+                let t = now + pair_time(&dr, &dv, sigma, vi2 + pj.vel.norm_squared());
+                if t < best.0 {
+                    best = (t, j);
+                    limit = limit.min(t - now);
+                }
             }
         }
         best

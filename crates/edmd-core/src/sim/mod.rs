@@ -116,8 +116,6 @@ impl EventSlot {
 pub(crate) struct Meta<const D: usize> {
     pub ev: EventSlot,
     pub mass: f64,
-    /// Collisions suffered; a partner's stored count that differs marks a stale candidate.
-    pub counter: u32,
     /// Original index of the particle (slots are renumbered in cell order for locality).
     pub id: u32,
     pub cell: [u32; D],
@@ -279,7 +277,6 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             .map(|(i, p)| Meta {
                 ev: EventSlot::EMPTY,
                 mass: p.mass,
-                counter: 0,
                 id: i as u32,
                 cell: [0; D],
             })
@@ -293,6 +290,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                     vel: p.vel,
                     radius: p.radius,
                     next_in_cell: NONE,
+                    counter: 0,
                 })
                 .collect(),
             meta,

@@ -121,7 +121,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
 
     /// Collisions (pair and wall) suffered by each particle, in the original order.
     pub fn collision_counts(&self) -> Vec<u32> {
-        self.in_original_order(|s| self.meta[s].counter)
+        self.in_original_order(|s| self.particles[s].counter)
     }
 
     /// Gathers a per-slot quantity into the original particle order.

@@ -36,8 +36,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         let mut sum = 0.0;
         let mut count = 0usize;
         for i in 0..self.particles.len() {
-            let (coll_t, partner) = self.search::<S>(i);
-            let t = self.set_event::<S>(i, coll_t, partner);
+            let t = self.predict_event::<S>(i);
             if t.is_finite() {
                 sum += t - self.now;
                 count += 1;
