@@ -61,6 +61,12 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         let id = self.meta[i].id;
         let kind = match self.decode(i) {
             Event::Collision(j) => {
+                if S::LISTS {
+                    // The partner's list is scanned right after the collision.
+                    if let Some(nl) = &self.nl {
+                        nl.prefetch(j);
+                    }
+                }
                 self.collide(i, j);
                 self.predict::<S>(i);
                 self.predict::<S>(j);
