@@ -4,8 +4,9 @@
 //! Each particle `i` is confined to a *shell*: a ball of radius `δ/2` around a centre `c_i` (its
 //! position when the shell was drawn). Its list holds every `j` with `|c_i − c_j| < σ_ij + δ`, so
 //! two particles that are not listed cannot touch while both stay in their shells. Leaving the shell
-//! is an event: the particle draws a new shell around its current position, leaves its old
-//! neighbours' lists, joins the new ones' (lists stay symmetric) and predicts against them. Cells
+//! is an event: the particle draws a new shell around its current position, leaves the lists of old
+//! neighbours that are no longer near and joins those of new ones (lists stay symmetric), and
+//! predicts against them. Cells
 //! (side ≥ σ_max + δ) are used only for that search, and a particle's cell is the cell of its
 //! centre, so there are no crossing events at all.
 //!
