@@ -79,12 +79,11 @@ test-bin:
 test-python: test-bin
 	EDMD_BIN=$(TEST_BIN) $(VENV)/bin/python -m pytest -q analysis
 
-# Both benchmarks run once and print (the calendar bench in criterion's test mode): a smoke run, not a
-# measurement (that is `make bench`), so it uses the test-profile build `cargo test` already made
-# instead of two more LTO builds.
+# The calendar benchmark runs once in criterion's test mode: a smoke run, not a measurement (that is
+# `make bench`). `--workspace` keeps the dependency features of the workspace test build, so nothing is
+# rebuilt. The edmd-bench smoke run is an integration test (tests/bench_smoke.rs) of `cargo test`.
 bench-smoke: test-bin
-	$(CARGO) test -q --bench calendar
-	$(CARGO) run --profile test -q --bin edmd-bench -- --d 2 --n 10000 --phi 0.3 --repeats 1 --collisions-per-particle 5
+	$(CARGO) test -q --workspace --bench calendar
 
 test: deps lint test-rust test-python test-slurm bench-smoke
 
