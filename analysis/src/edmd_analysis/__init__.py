@@ -1,5 +1,7 @@
-"""Analysis of edmd sweeps: read the H5MD replica files and the sweep index into numpy arrays."""
+"""Analysis of edmd sweeps: read the H5MD replica files and the sweep index into numpy arrays (and
+pandas DataFrames when pandas is installed), draw figures, reports and movies."""
 
+from .frames import read_phase_table
 from .io import (
     SCHEMA_VERSION,
     CorruptFileError,
@@ -22,6 +24,7 @@ __all__ = [
     "Snapshots",
     "read_index",
     "read_observable",
+    "read_phase_table",
     "read_replica",
     "read_snapshots",
 ]

@@ -1,8 +1,11 @@
-"""Command line: ``python -m edmd_analysis report OUT -o REPORT``."""
+"""Command line: ``python -m edmd_analysis report OUT [-o REPORT]`` (every figure of a sweep and an
+index.html) and ``python -m edmd_analysis movie OUT [--replica K] [-o FILE]`` (an animation of one
+replica from its snapshots)."""
 
 import argparse
 import sys
 
+from .movie import COLOURINGS, movie
 from .report import report
 
 
@@ -13,13 +16,41 @@ def main(argv=None) -> int:
     rep.add_argument("out", help="sweep output directory (edmd run -o OUT)")
     rep.add_argument("-o", "--output", help="report directory (default OUT/report)")
     rep.add_argument("--max-points", type=int, default=24, help="grid points drawn (default 24)")
+    rep.add_argument("--no-movies", action="store_true",
+                     help="skip the movie of one replica per class")
+    mov = sub.add_parser("movie", help="an animation of one replica from its snapshots (GIF; MP4 "
+                         "too when ffmpeg is present)")
+    mov.add_argument("out", help="sweep output directory, or one replica file")
+    mov.add_argument("--replica", type=int, help="replica index K (default: the finished replica "
+                     "with the most snapshots)")
+    mov.add_argument("-o", "--output", help="movie file, .gif or .mp4 (default OUT/movies/rK.gif, "
+                     "and rK.mp4 when ffmpeg is present)")
+    mov.add_argument("--fps", type=float, default=5.0, help="frames per second (default 5)")
+    mov.add_argument("--colour", choices=COLOURINGS, help="grain colours (default: species in "
+                     "mixtures, spin for rough grains, speed otherwise)")
+    arrows = mov.add_mutually_exclusive_group()
+    arrows.add_argument("--arrows", dest="arrows", action="store_true", default=None,
+                        help="draw velocity arrows (default where the colour is not the speed)")
+    arrows.add_argument("--no-arrows", dest="arrows", action="store_false")
+    mov.add_argument("--max-frames", type=int, help="at most this many frames, evenly spread")
+    mov.add_argument("--dpi", type=int, default=80, help="pixels per inch of the 5-inch frame (default 80)")
     args = parser.parse_args(argv)
     try:
-        page = report(args.out, args.output or f"{args.out}/report", args.max_points)
+        if args.command == "report":
+            page = report(args.out, args.output or f"{args.out}/report", args.max_points,
+                          movies=not args.no_movies)
+            print(f"report: {page}")
+        else:
+            if args.fps <= 0:
+                raise ValueError(f"--fps {args.fps:g}: must be positive")
+            if args.max_frames is not None and args.max_frames < 2:
+                raise ValueError(f"--max-frames {args.max_frames}: a movie needs at least 2")
+            for path in movie(args.out, args.replica, args.output, fps=args.fps, colour=args.colour,
+                              arrows=args.arrows, dpi=args.dpi, max_frames=args.max_frames):
+                print(f"movie: {path}")
     except (FileNotFoundError, ValueError, KeyError) as e:
         print(f"error: {e}", file=sys.stderr)
         return 1
-    print(f"report: {page}")
     return 0
 
 

@@ -83,6 +83,12 @@ class Index:
     def __getitem__(self, column: str) -> np.ndarray:
         return self.columns[column]
 
+    def to_frame(self):
+        """The index as a pandas DataFrame, one row per replica (needs pandas; see frames.py)."""
+        from .frames import index_frame
+
+        return index_frame(self)
+
     def replica_path(self, i: int) -> Path:
         """Path of replica i's file (whether or not it exists)."""
         return self.path.parent / "replicas" / f"r{int(self.columns['index'][i]):05d}.h5"
@@ -126,6 +132,12 @@ class Replica:
     @property
     def status(self) -> str:
         return self.params["status"]
+
+    def to_frame(self):
+        """The scalar observables as a pandas DataFrame, one row per sample (needs pandas)."""
+        from .frames import observables_frame
+
+        return observables_frame(self)
 
 
 def _params(path: Path, f: h5py.File) -> dict:

@@ -7,8 +7,10 @@ with velocity arrows (2D; grains to scale, coloured by species in mixtures and b
 scenes), velocity histograms of the whole box and the half-boxes, T_rot/T_tr against the
 two-temperature theory (rough grains), species temperature ratios against Garzo-Dufty (mixtures),
 density profiles against the barometric one (gravity), order parameters and the phase diagram
-(classified free-cooling sweeps). The phase table and its theory columns come from OUT/phase.json, written
-by the edmd binary.
+(classified free-cooling sweeps), and a short movie (GIF) of one replica per class, for replicas that
+store two or more snapshots. The phase table and its theory columns come from OUT/phase.json, written
+by the edmd binary. The page's phase table scrolls inside its own box on narrow screens; every
+figure keeps its aspect and carries a line saying what it shows.
 """
 
 from __future__ import annotations
@@ -23,7 +25,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from . import io, plots  # noqa: E402
+from . import io, movie, plots  # noqa: E402
 
 # The index columns that tell grid points apart (the seed aside).
 POINT_COLUMNS = ("dim", "boundary", "remedy", "n", "phi", "box_side", "eps", "beta", "species",
@@ -93,8 +95,69 @@ def _y_axis(rows):
     return "eps"
 
 
-def report(out, dest, max_points: int = 24) -> Path:
-    """Writes the report of the sweep in ``out`` into ``dest``; returns the path of index.html."""
+# What each figure shows, by the start of its file name (the page's caption under the figure).
+LEGENDS = {
+    "cooling-loglog": "T/T0 against tau (collisions per particle), log-log, first seed of each grid "
+                      "point; dashed: Haff's law with its first Sonine correction (docs/PHYSICS.md).",
+    "cooling-semilog": "The same cooling on a linear tau axis: Haff's law is a straight line here, and "
+                       "the clustering gas leaves it upwards.",
+    "snapshots-": "Disks to scale at each stored snapshot, arrows: velocities in units of the rms "
+                  "speed; colours by species (mixtures) or spin omega (rough disks).",
+    "velocity-histograms": "One velocity component over the whole box and over the two half-boxes, at "
+                           "the last snapshot: a shear band shows as two shifted half-box histograms.",
+    "rotational-ratio": "T_rot/T_tr of rough grains against the two-temperature theory from the same "
+                        "start (dashed) and its Sonine stationary ratio (dotted).",
+    "species-temperatures": "Each species' temperature over the last species' against Garzo-Dufty's "
+                            "homogeneous-cooling ratio (dashed).",
+    "density-profiles": "Number density along gravity, averaged over the last half of the samples, "
+                        "against the barometric profile (elastic columns).",
+    "order-parameters": "The classifier's order parameters over their thresholds (dotted line = 1): "
+                        "crossing it marks shear (S_perp) or clustering (density variance).",
+    "phase-diagram": "Each grid point as a pie of its replicas' classes (kinetic, shearing, "
+                     "clustering) over the grid axis that varies; against L/L_perp, dashed and dotted "
+                     "lines mark the theory's L = L_perp and L = L_par.",
+    "movie-": "Movie of one replica of this class: disks to scale coloured by speed in units of the "
+              "current rms speed (or by species / spin), tau and T/T0 in the title.",
+}
+
+MOVIE_CLASSES = ("kinetic", "shearing", "clustering")
+SNAPSHOT_PANELS = 6
+
+
+def legend(name: str) -> str:
+    """The caption of the figure file ``name``."""
+    for prefix, text in LEGENDS.items():
+        if name.startswith(prefix):
+            return text
+    return ""
+
+
+def _movies(index: io.Index, dest: Path, saved: list, max_frames: int = 40):
+    """One short GIF per class (the first replica of each class with two or more snapshots; one
+    movie of the first such replica when the sweep is not classified)."""
+    classes = [str(c) for c in index["class"]] if "class" in index.columns else [""] * len(index)
+    wanted = [c for c in MOVIE_CLASSES if c in classes] or [None]
+    for c in wanted:
+        for i in range(len(index)):
+            if (c is not None and classes[i] != c) or index["status"][i] in ("failed", "missing"):
+                continue
+            path = index.replica_path(i)
+            try:
+                with io._open(path) as f:
+                    k = f["particles/gas/position/step"].shape[0] if "particles/gas/position" in f else 0
+            except (io.SchemaError, FileNotFoundError):
+                continue
+            if k < 2:
+                continue
+            name = f"movie-{c or 'replica'}-r{int(index['index'][i]):05d}.gif"
+            movie.movie(path, output=dest / name, max_frames=max_frames, dpi=64)
+            saved.append(name)
+            break
+
+
+def report(out, dest, max_points: int = 24, movies: bool = True) -> Path:
+    """Writes the report of the sweep in ``out`` into ``dest``; returns the path of index.html.
+    ``movies=False`` skips the movies (one per class)."""
     out, dest = Path(out), Path(dest)
     dest.mkdir(parents=True, exist_ok=True)
     index = io.read_index(out)
@@ -113,9 +176,12 @@ def report(out, dest, max_points: int = 24) -> Path:
     two_d = [i for i in chosen if index["dim"][i] == 2]
     for i in two_d:
         snaps = io.read_snapshots(index.replica_path(i))
+        # At most SNAPSHOT_PANELS snapshots, evenly spread over those stored (first and last kept);
+        # the movies show them all.
         k = len(snaps.step)
-        fig, axes = _panels(k, 4.0, 4.0)
-        for j, ax in enumerate(axes):
+        shown = np.unique(np.linspace(0, k - 1, min(k, SNAPSHOT_PANELS)).round().astype(int))
+        fig, axes = _panels(len(shown), 4.0, 4.0)
+        for j, ax in zip(shown, axes):
             plots.snapshot(ax, snaps, k=j)
         fig.suptitle(_title(index, i))
         _save(fig, dest, f"snapshots-r{int(index['index'][i]):05d}", saved)
@@ -147,6 +213,8 @@ def report(out, dest, max_points: int = 24) -> Path:
             fig, ax = plt.subplots(figsize=(6.5, 5))
             plots.phase_diagram(ax, rows, x=_x_axis(rows), y=_y_axis(rows))
             _save(fig, dest, "phase-diagram", saved)
+    if movies:
+        _movies(index, dest, saved)
     page = dest / "index.html"
     page.write_text(_html(index, rows, saved))
     return page
@@ -168,17 +236,30 @@ def _html(index: io.Index, rows, images) -> str:
     table = "<tr>" + "".join(f"<th>{h}</th>" for h in head) + "</tr>\n"
     for r in rows:
         table += "<tr>" + "".join(f"<td>{cell(r.get(h))}</td>" for h in head) + "</tr>\n"
-    figures = "\n".join(f'<h3>{html.escape(name)}</h3><img src="{html.escape(name)}" style="max-width:100%">'
-                        for name in images)
+    figures = "\n".join(
+        f'<figure><h3>{html.escape(name)}</h3><a href="{html.escape(name)}">'
+        f'<img src="{html.escape(name)}" alt="{html.escape(name)}"></a>'
+        f'<figcaption>{html.escape(legend(name))}</figcaption></figure>'
+        for name in images)
     return f"""<!DOCTYPE html>
-<html><head><meta charset="utf-8"><title>edmd sweep {html.escape(index.name)}</title>
-<style>body{{font-family:sans-serif;margin:2em}} table{{border-collapse:collapse;font-size:small}}
-td,th{{border:1px solid #ccc;padding:2px 6px;text-align:right}}</style></head><body>
+<html><head><meta charset="utf-8"><meta name="viewport" content="width=device-width, initial-scale=1">
+<title>edmd sweep {html.escape(index.name)}</title>
+<style>body{{font-family:sans-serif;margin:1em auto;max-width:80em;padding:0 1em}}
+.table-box{{overflow-x:auto;max-width:100%;border:1px solid #ddd}}
+table{{border-collapse:collapse;font-size:small;white-space:nowrap}}
+td,th{{border:1px solid #ccc;padding:2px 6px;text-align:right}}
+figure{{margin:1.5em 0}} img{{max-width:100%;height:auto;display:block}}
+figcaption{{font-size:small;color:#444;max-width:50em}}
+pre{{overflow-x:auto;max-width:100%}}</style></head><body>
 <h1>Sweep {html.escape(index.name)}</h1>
 <p>{html.escape(spec.get("description", ""))}</p>
 <h2>Phase table</h2>
+<p>One row per grid point over its seeds: replicas done, collapsed and failed, the end of the run, T/T0
+against Haff's law, the box over the theory's unstable lengths, the class fractions and onset times.</p>
+<div class="table-box">
 <table>
 {table}</table>
+</div>
 <h2>Figures</h2>
 {figures}
 <h2>Spec</h2>

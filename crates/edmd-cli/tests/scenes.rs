@@ -230,3 +230,60 @@ fn heated_column_from_a_spec() {
         "{phase}"
     );
 }
+
+/// Snapshot grids: `snapshots.every` (linear from τ = 0) and `per_decade` from `log_from` merge with
+/// `at` and the final state; every snapshot is also a sample, taken after the first collision count
+/// ≥ τ N. Stopping for the extra snapshots does not change the trajectory: the final state equals,
+/// bit for bit, that of the same replica run with one snapshot.
+#[test]
+fn snapshot_grids_store_the_merged_times_and_leave_the_trajectory_alone() {
+    let tmp = tempfile::tempdir().unwrap();
+    let n = 300usize;
+    let base = |snaps: &str| {
+        format!(
+            r#"{{"name": "grid", "grid": {{"eps": 0.9, "phi": 0.2, "n": {n}}}, "stop": {{"tau_max": 10}},
+                 "samples": {{"every": 4, "per_decade": 0}}, "snapshots": {snaps}}}"#
+        )
+    };
+    let grid = run_spec(
+        tmp.path(),
+        "grids",
+        &base(r#"{"at": [0], "every": 2.5, "per_decade": 2, "log_from": 1}"#),
+    );
+    let plain = run_spec(tmp.path(), "plain", &base(r#"{"at": []}"#));
+    let f = grid.join("replicas/r00000.h5");
+    let file = hdf5::File::open(&f).unwrap();
+    let steps: Vec<i64> = file
+        .dataset("particles/gas/position/step")
+        .unwrap()
+        .read_raw()
+        .unwrap();
+    // at 0; linear 0, 2.5, 5, 7.5, 10; logarithmic 1, 10^0.5, 10; the final state is τ = 10.
+    let taus = [0.0, 1.0, 2.5, 10f64.sqrt(), 5.0, 7.5, 10.0];
+    let expected: Vec<i64> = taus.iter().map(|t| (t * n as f64).ceil() as i64).collect();
+    assert_eq!(steps, expected);
+    let (shape, _) = read(&f, "particles/gas/position/value");
+    assert_eq!(shape, [taus.len(), n, 2]);
+    let sampled: Vec<i64> = file
+        .dataset("observables/temperature/step")
+        .unwrap()
+        .read_raw()
+        .unwrap();
+    for s in &steps {
+        assert!(
+            sampled.contains(s),
+            "snapshot step {s} not sampled: {sampled:?}"
+        );
+    }
+    let (_, with_grid) = read(&f, "particles/gas/position/value");
+    let (pshape, alone) = read(
+        &plain.join("replicas/r00000.h5"),
+        "particles/gas/position/value",
+    );
+    assert_eq!(
+        pshape,
+        [1, n, 2],
+        "the plain run stores only its final state"
+    );
+    assert_eq!(&with_grid[with_grid.len() - 2 * n..], &alone[..]);
+}

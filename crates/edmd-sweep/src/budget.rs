@@ -39,9 +39,10 @@ impl ReplicaBytes {
     }
 }
 
-/// Snapshots a replica stores at most (the `at` list, the final state, and τ = 0 of a collapse).
+/// Snapshots a replica stores at most (the `at` list, the linear and logarithmic grids, the final
+/// state, and τ = 0 of a collapse).
 pub fn snapshots_per_replica(spec: &Spec) -> usize {
-    spec.snapshots.at.len() + spec.snapshots.last as usize + 1
+    spec.snapshots.count_to(spec.stop.tau_max) as usize + spec.snapshots.last as usize + 1
 }
 
 /// The memory of one replica of `spec`.
@@ -199,7 +200,18 @@ pub fn check_memory(
                     .copied()
                     .fold((f64::MIN, ""), |a, p| if p.0 > a.0 { p } else { a });
             let field = match (top, r.density) {
-                ("snapshots", _) => format!("snapshots.at = {} times", spec.snapshots.at.len()),
+                ("snapshots", _) => match spec.snapshots.every {
+                    Some(e) => format!(
+                        "snapshots.every = {e} ({} snapshots)",
+                        snapshots_per_replica(spec)
+                    ),
+                    None if spec.snapshots.per_decade > 0 => format!(
+                        "snapshots.per_decade = {} ({} snapshots)",
+                        spec.snapshots.per_decade,
+                        snapshots_per_replica(spec)
+                    ),
+                    None => format!("snapshots.at = {} times", spec.snapshots.at.len()),
+                },
                 ("samples", _) => "samples".to_string(),
                 ("classifier grid", _) => format!(
                     "classify.grid = {}",
@@ -287,7 +299,7 @@ mod tests {
 
     #[test]
     fn snapshots_dominate_when_many_are_stored() {
-        let at: Vec<String> = (0..5000).map(|k| k.to_string()).collect();
+        let at: Vec<String> = (0..5000).map(|k| (k as f64 * 0.002).to_string()).collect();
         let s = spec(
             "100000",
             &format!(r#", "snapshots": {{"at": [{}]}}"#, at.join(",")),
@@ -296,6 +308,19 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(err.contains("spec: snapshots.at = 5000 times"), "{err}");
+    }
+
+    #[test]
+    fn a_snapshot_grid_is_named_with_its_count() {
+        let s = spec("100000", r#", "snapshots": {"every": 0.002}"#);
+        assert_eq!(snapshots_per_replica(&s), 1 + 5001 + 1 + 1);
+        let err = check_memory(&s, &s.replicas(), 1, MemoryLimit::new(Some(1 << 30)))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains("spec: snapshots.every = 0.002 (5004 snapshots)"),
+            "{err}"
+        );
     }
 
     #[test]

@@ -110,6 +110,11 @@ pub(super) fn simulate<const D: usize, B: Boundary, R: CollisionRule>(
 
     let mut snapshot_points = spec.snapshots.at.clone();
     snapshot_points.retain(|&t| t <= spec.stop.tau_max);
+    // The snapshot times (the `at` points and the snapshot grids); each is also a sample.
+    let snapshot_times = spec.snapshots.schedule();
+    let mut next_snapshot = snapshot_times
+        .first_at_or_after(0.0)
+        .filter(|&t| t <= spec.stop.tau_max);
     let schedule = Schedule {
         linear: spec.samples.every,
         log_per_decade: (spec.samples.per_decade > 0).then_some(spec.samples.per_decade),
@@ -224,7 +229,7 @@ pub(super) fn simulate<const D: usize, B: Boundary, R: CollisionRule>(
         }
     };
 
-    let mut next = schedule.first_at_or_after(0.0);
+    let mut next = earliest(schedule.first_at_or_after(0.0), next_snapshot);
     let mut end = RunEnd::Reached;
     let mut stopped_cold = false;
     let mut stalled = false;
@@ -252,8 +257,11 @@ pub(super) fn simulate<const D: usize, B: Boundary, R: CollisionRule>(
         if end != RunEnd::Reached {
             break;
         }
-        let snap = snapshot_points.contains(&point);
+        let snap = next_snapshot.is_some_and(|t| same_point(t, point));
         sample(&sim, &mut series, &mut snapshots, &mut meter, snap);
+        if snap {
+            next_snapshot = after(&snapshot_times, point, spec.stop.tau_max);
+        }
         sampled_at = Some(sim.counters().pair_collisions);
         if let Some(ratio) = spec.stop.temperature_ratio {
             if sim.ln_temperature() - t0.ln() < ratio.ln() {
@@ -271,9 +279,7 @@ pub(super) fn simulate<const D: usize, B: Boundary, R: CollisionRule>(
                 break;
             }
         }
-        next = schedule
-            .next_after(point)
-            .filter(|&t| t <= spec.stop.tau_max);
+        next = earliest(after(&schedule, point, spec.stop.tau_max), next_snapshot);
     }
     let c = sim.counters().pair_collisions;
     progress(c - reported);
@@ -390,4 +396,27 @@ pub(super) fn simulate<const D: usize, B: Boundary, R: CollisionRule>(
         classification,
         per_cell: theory.per_cell,
     })
+}
+
+/// Two schedule points closer than round-off are one sample (a snapshot grid point and a sample
+/// grid point computed as different products of the same τ).
+fn same_point(a: f64, b: f64) -> bool {
+    (a - b).abs() <= 1e-9 * a.abs().max(1.0)
+}
+
+/// The first point of `schedule` after `point` (and not the same point), up to `tau_max`.
+fn after(schedule: &Schedule, point: f64, tau_max: f64) -> Option<f64> {
+    let mut t = schedule.next_after(point);
+    while let Some(x) = t.filter(|&x| same_point(x, point)) {
+        t = schedule.next_after(x);
+    }
+    t.filter(|&x| x <= tau_max)
+}
+
+/// The earlier of two optional points.
+fn earliest(a: Option<f64>, b: Option<f64>) -> Option<f64> {
+    match (a, b) {
+        (Some(x), Some(y)) => Some(x.min(y)),
+        (x, y) => x.or(y),
+    }
 }

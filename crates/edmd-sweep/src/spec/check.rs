@@ -254,6 +254,19 @@ impl Spec {
         for &t in &self.snapshots.at {
             within("snapshots.at", t, &domain::SNAPSHOT_AT)?;
         }
+        if let Some(e) = self.snapshots.every {
+            within("snapshots.every", e, &domain::EVERY)?;
+        }
+        within(
+            "snapshots.per_decade",
+            self.snapshots.per_decade as f64,
+            &domain::PER_DECADE,
+        )?;
+        within(
+            "snapshots.log_from",
+            self.snapshots.log_from,
+            &domain::LOG_FROM,
+        )?;
         within(
             "output.compression",
             self.output.compression as f64,
@@ -261,8 +274,14 @@ impl Spec {
         )?;
         let samples = self.samples_per_replica();
         if samples > MAX_SAMPLES as f64 {
-            let field = match self.samples.every {
-                Some(e) if self.stop.tau_max / e > 0.5 * samples => format!("samples.every = {e}"),
+            let tau = self.stop.tau_max;
+            let snaps = &self.snapshots;
+            let field = match (self.samples.every, snaps.every) {
+                (_, Some(e)) if tau / e > 0.5 * samples => format!("snapshots.every = {e}"),
+                (Some(e), _) if tau / e > 0.5 * samples => format!("samples.every = {e}"),
+                _ if snaps.count_to(tau) > 0.5 * samples => {
+                    format!("snapshots.per_decade = {}", snaps.per_decade)
+                }
                 _ => format!("samples.per_decade = {}", self.samples.per_decade),
             };
             return Err(SweepError::Spec(format!(
@@ -363,7 +382,7 @@ fn grid_size(g: &Grid) -> f64 {
 
 impl Spec {
     /// An upper bound on the samples of one replica: the linear grid, the logarithmic grid up to
-    /// `stop.tau_max`, τ = 0 and the end.
+    /// `stop.tau_max`, the snapshot times (each is also a sample), τ = 0 and the end.
     pub fn samples_per_replica(&self) -> f64 {
         let tau = self.stop.tau_max;
         let s = &self.samples;
@@ -373,7 +392,7 @@ impl Spec {
         } else {
             0.0
         };
-        linear + log + 2.0
+        linear + log + self.snapshots.count_to(tau) + 2.0
     }
 }
 

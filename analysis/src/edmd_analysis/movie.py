@@ -1,0 +1,213 @@
+"""``python -m edmd_analysis movie OUT [--replica K] [-o FILE]``: an animation of one replica, one frame
+per stored snapshot (``snapshots.at``, ``snapshots.every``, ``snapshots.per_decade`` and the final
+state of the spec; docs/sweep-spec.md).
+
+Grains are drawn to scale. In 2D every disk is shown; in 3D the spheres cut by the mid-plane slab
+|z - L_z/2| < sigma_max/2 are drawn as their cross-sections. Colours: the speed in units of the
+current rms speed (|v_i| / sqrt(D T / m_i), so a frame of a gas cooled by 10^6 reads like the first),
+one colour per species in mixtures, the spin omega in units of its rms in rough scenes; velocity
+arrows (scaled by the rms speed) on request, and by default where the colour is not the speed. The
+title gives tau and T/T0 from the replica's ``ln_temperature`` at the snapshot's step.
+
+A GIF is written through Pillow always; an MP4 too when ffmpeg is on the PATH.
+"""
+
+from __future__ import annotations
+
+import shutil
+from pathlib import Path
+from typing import List, Optional
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+from matplotlib import animation  # noqa: E402
+from matplotlib.collections import EllipseCollection  # noqa: E402
+
+from . import io, plots  # noqa: E402
+
+COLOURINGS = ("speed", "species", "spin", "plain")
+SPEED_MAX = 2.5  # top of the colour scale, in rms speeds
+
+
+def has_ffmpeg() -> bool:
+    """Whether MP4 files can be written (ffmpeg on the PATH)."""
+    return shutil.which("ffmpeg") is not None
+
+
+def default_colouring(snaps: io.Snapshots) -> str:
+    """'species' for a mixture, 'spin' for rough grains, 'speed' otherwise."""
+    picked = plots.snapshot_colouring(snaps)
+    return "speed" if picked == "plain" else picked
+
+
+def pick_replica(out) -> int:
+    """The replica a movie shows by default: the finished one with the most snapshots (the first such
+    in sweep order)."""
+    index = io.read_index(out)
+    best, most = None, 1
+    for i in range(len(index)):
+        if index["status"][i] in ("failed", "missing"):
+            continue
+        path = index.replica_path(i)
+        if not path.exists():
+            continue
+        with io._open(path) as f:
+            k = f["particles/gas/position/step"].shape[0] if "particles/gas/position" in f else 0
+        if k > most:
+            best, most = int(index["index"][i]), k
+    if best is None:
+        raise ValueError(f"{out}: no replica stores two or more snapshots; add snapshots.every to the spec")
+    return best
+
+
+def _temperature_ratio(rep: io.Replica, steps: np.ndarray) -> np.ndarray:
+    """T/T0 at each snapshot step, from the sampled ln T (every snapshot is also a sample)."""
+    ln_t = rep.observables["ln_temperature"]
+    tau = rep.observables["tau"]
+    n = float(rep.params["n"])
+    return np.exp(np.interp(steps / n, tau, ln_t) - ln_t[0])
+
+
+def _visible(snaps: io.Snapshots, k: int):
+    """Indices, centres and drawn diameters of the grains in frame k (a mid-plane slab in 3D)."""
+    pos = snaps.position[k]
+    d = 2 * np.asarray(snaps.radius, dtype=float)
+    if pos.shape[1] == 2:
+        return np.arange(len(pos)), pos, d
+    half = 0.5 * d.max()
+    dz = pos[:, 2] - 0.5 * snaps.box[2]
+    idx = np.flatnonzero(np.abs(dz) < half)
+    cut = 2 * np.sqrt(np.maximum((d[idx] / 2) ** 2 - dz[idx] ** 2, 0.0))
+    return idx, pos[idx, :2], cut
+
+
+def _speed(snaps: io.Snapshots, k: int) -> np.ndarray:
+    """|v_i| / sqrt(D T / m_i), T = sum m v^2 / (D N): the speed in rms speeds of its own mass."""
+    v = snaps.velocity[k]
+    m = np.asarray(snaps.mass, dtype=float)
+    dim = v.shape[1]
+    t = (m * (v**2).sum(axis=1)).sum() / (dim * len(m))
+    return np.sqrt((v**2).sum(axis=1)) / (np.sqrt(dim * t / m) if t > 0 else 1.0)
+
+
+def _draw(ax, snaps, k, colour, arrows, title):
+    ax.clear()
+    idx, xy, d = _visible(snaps, k)
+    style = dict(units="xy", offsets=xy, offset_transform=ax.transData, linewidth=0.2)
+    if colour == "species":
+        sp = np.asarray(snaps.species)[idx]
+        face = [plots.SPECIES_COLOURS[s % len(plots.SPECIES_COLOURS)] for s in sp]
+        edge = [plots.SPECIES_EDGES[s % len(plots.SPECIES_EDGES)] for s in sp]
+        ax.add_collection(EllipseCollection(d, d, np.zeros_like(d), facecolor=face, edgecolor=edge,
+                                            **style))
+    elif colour in ("speed", "spin"):
+        if colour == "speed":
+            value, cmap, lim = _speed(snaps, k)[idx], "viridis", (0.0, SPEED_MAX)
+        else:
+            omega = snaps.angular_velocity[k][:, -1]
+            value, cmap, lim = (omega / (np.sqrt((omega**2).mean()) or 1.0))[idx], "coolwarm", (-2.5, 2.5)
+        coll = EllipseCollection(d, d, np.zeros_like(d), cmap=cmap, edgecolor="none", **style)
+        coll.set_array(value)
+        coll.set_clim(*lim)
+        ax.add_collection(coll)
+    else:
+        ax.add_collection(EllipseCollection(d, d, np.zeros_like(d), facecolor="#9ecae1",
+                                            edgecolor="#3182bd", **style))
+    if arrows and len(idx):
+        vel = snaps.velocity[k][idx, :2]
+        scale = np.sqrt((snaps.velocity[k] ** 2).sum(axis=1).mean()) or 1.0
+        ax.quiver(xy[:, 0], xy[:, 1], vel[:, 0] / scale, vel[:, 1] / scale, angles="xy",
+                  scale_units="xy", scale=0.5, width=0.0015, color="k")
+    ax.set_xlim(0, snaps.box[0])
+    ax.set_ylim(0, snaps.box[1])
+    ax.set_aspect("equal")
+    ax.set_xticks([])
+    ax.set_yticks([])
+    ax.set_title(title, fontsize="small")
+
+
+def _colour_bar(fig, ax, colour):
+    if colour == "speed":
+        mappable = plt.cm.ScalarMappable(plt.Normalize(0.0, SPEED_MAX), "viridis")
+        label = "|v| / rms speed"
+    elif colour == "spin":
+        mappable = plt.cm.ScalarMappable(plt.Normalize(-2.5, 2.5), "coolwarm")
+        label = "omega / rms"
+    else:
+        return
+    fig.colorbar(mappable, ax=ax, shrink=0.8, label=label)
+
+
+def movie(source, replica: Optional[int] = None, output=None, fps: float = 5.0,
+          colour: Optional[str] = None, arrows: Optional[bool] = None, dpi: int = 80,
+          max_frames: Optional[int] = None, mp4: Optional[bool] = None) -> List[Path]:
+    """Writes the movie of one replica; returns the files written.
+
+    ``source``: a sweep output directory (then ``replica`` is its index, by default ``pick_replica``)
+    or a replica file. ``output``: the file to write (``.gif`` or ``.mp4``); by default
+    ``OUT/movies/rKKKKK.gif``, with an ``.mp4`` beside it when ffmpeg is present (``mp4=False`` skips
+    it). ``max_frames`` keeps that many snapshots evenly spread (first and last included).
+    """
+    source = Path(source)
+    if source.is_dir():
+        k = pick_replica(source) if replica is None else int(replica)
+        path = source / "replicas" / f"r{k:05d}.h5"
+        default_dir = source / "movies"
+    else:
+        path, default_dir = source, source.parent
+        k = int(path.stem.lstrip("r") or 0) if path.stem.startswith("r") else 0
+    snaps = io.read_snapshots(path)
+    rep = io.read_replica(path)
+    frames = np.arange(len(snaps.step))
+    if len(frames) < 2:
+        raise ValueError(f"{path}: {len(frames)} snapshot stored; a movie needs two or more "
+                         "(set snapshots.every in the spec)")
+    if max_frames is not None and len(frames) > max_frames:
+        frames = np.unique(np.linspace(0, len(frames) - 1, max(max_frames, 2)).round().astype(int))
+    colour = colour or default_colouring(snaps)
+    if colour not in COLOURINGS:
+        raise ValueError(f"colour = {colour!r}: one of {', '.join(COLOURINGS)}")
+    if colour == "spin" and snaps.angular_velocity is None:
+        raise ValueError(f"colour = 'spin': {path} holds smooth grains (no angular velocities)")
+    arrows = colour != "speed" if arrows is None else arrows
+    ratio = _temperature_ratio(rep, snaps.step)
+    p = rep.params
+    head = f"eps = {p['eps']:g}, N = {p['n']}, phi = {p['phi']:.3g}"
+    if snaps.position.shape[2] == 3:
+        head += ", slab |z - L/2| < sigma/2"
+
+    outputs = [Path(output)] if output else [default_dir / f"r{k:05d}.gif"]
+    if not output and (has_ffmpeg() if mp4 is None else mp4):
+        outputs.append(default_dir / f"r{k:05d}.mp4")
+    for o in outputs:
+        if o.suffix not in (".gif", ".mp4"):
+            raise ValueError(f"-o {o}: the movie is written as .gif or .mp4")
+        if o.suffix == ".mp4" and not has_ffmpeg():
+            raise ValueError(f"-o {o}: MP4 needs ffmpeg on the PATH (apt-get install ffmpeg); "
+                             "write a .gif instead")
+
+    fig, ax = plt.subplots(figsize=(5.0, 4.4 if colour in ("speed", "spin") else 5.0),
+                           layout="constrained")
+    _colour_bar(fig, ax, colour)
+
+    def update(j):
+        f = frames[j]
+        _draw(ax, snaps, f, colour, arrows,
+              f"{head}\ntau = {snaps.tau[f]:.1f}   T/T0 = {ratio[f]:.3g}")
+        return []
+
+    anim = animation.FuncAnimation(fig, update, frames=len(frames), blit=False)
+    written = []
+    for o in outputs:
+        o.parent.mkdir(parents=True, exist_ok=True)
+        tmp = o.with_name(o.stem + ".part" + o.suffix)
+        writer = (animation.PillowWriter(fps=fps) if o.suffix == ".gif"
+                  else animation.FFMpegWriter(fps=fps, codec="libx264", extra_args=["-pix_fmt", "yuv420p"]))
+        anim.save(tmp, writer=writer, dpi=dpi)
+        tmp.replace(o)
+        written.append(o)
+    plt.close(fig)
+    return written
