@@ -11,12 +11,18 @@
 #   make stress    stress tests at full size (numerical stability; CI runs short versions)
 #   make validate  long equilibrium-accuracy runs (chi against Luding / Carnahan-Starling)
 #   make deps      system packages (libhdf5-dev, hdf5-tools) and the Python venv for analysis/
+#                  (MEDIA=1: also ffmpeg and headless Chromium for MP4 movies and the page test)
 
 SHELL := /bin/bash
 CARGO ?= cargo
 PYTHON ?= python3
 VENV := .venv
 APT_PACKAGES := libhdf5-dev hdf5-tools pkg-config
+# `make deps MEDIA=1` also installs ffmpeg (MP4 movies beside the GIFs) and a headless Chromium (the
+# report page test renders the page); without them those parts are skipped with a message.
+ifdef MEDIA
+APT_PACKAGES += ffmpeg chromium-headless-shell
+endif
 
 .PHONY: all deps build run figures demo cli check test test-rust test-bin test-python lint bench bench-smoke bench-nightly bench-accuracy stress test-slurm validate clean
 

@@ -106,6 +106,25 @@ def test_report_draws_the_scene_figures(ready, name, tmp_path):
         assert f'src="{n}"' in text
     rows = json.loads((ready[name] / "phase.json").read_text())
     assert text.count("<tr>") == 1 + len(rows)  # the phase table has every point
+    # A movie per class the sweep holds (one of the first replica for the unclassified column).
+    index = ea.read_index(ready[name])
+    classes = {str(c) for c in index["class"]} & set(report_module.MOVIE_CLASSES)
+    movies = sorted(p.name for p in (tmp_path / "rep").glob("movie-*.gif"))
+    assert [m.split("-")[1] for m in movies] == sorted(classes) or (not classes and len(movies) == 1)
+    for m in movies:
+        assert f'src="{m}"' in text
+
+
+def test_movies_colour_by_species_and_spin(ready, tmp_path):
+    from edmd_analysis import movie as movie_module
+
+    mixture = ea.read_snapshots(ea.read_index(ready["mixture-mass-ratio"]).replica_path(0))
+    assert movie_module.default_colouring(mixture) == "species"
+    rough_index = ea.read_index(ready["rough-beta"])
+    k = int(np.flatnonzero(rough_index["beta"] == 0.5)[0])
+    assert movie_module.default_colouring(ea.read_snapshots(rough_index.replica_path(k))) == "spin"
+    out = movie_module.movie(rough_index.replica_path(k), output=tmp_path / "spin.gif", max_frames=2)
+    assert out == [tmp_path / "spin.gif"] and out[0].stat().st_size > 0
 
 
 def test_snapshots_colour_by_species_and_spin(ready, tmp_path):
