@@ -37,6 +37,7 @@ def frames(path):
 def test_snapshot_grids_give_the_movie_its_frames(grid_sweep, tmp_path, capsys):
     snaps = ea.read_snapshots(grid_sweep / "replicas" / "r00000.h5")
     np.testing.assert_allclose(snaps.tau, [0, 1, 2, 10**0.5, 4, 6, 8, 10], atol=1 / 300)
+    assert ea.snapshot_count(grid_sweep / "replicas" / "r00000.h5") == 8
     out = tmp_path / "m.gif"
     assert main(["movie", str(grid_sweep), "--replica", "0", "-o", str(out)]) == 0
     assert str(out) in capsys.readouterr().out

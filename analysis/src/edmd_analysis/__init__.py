@@ -13,6 +13,7 @@ from .io import (
     read_observable,
     read_replica,
     read_snapshots,
+    snapshot_count,
 )
 
 __all__ = [
@@ -27,4 +28,5 @@ __all__ = [
     "read_phase_table",
     "read_replica",
     "read_snapshots",
+    "snapshot_count",
 ]

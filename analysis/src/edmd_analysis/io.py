@@ -207,6 +207,14 @@ class Snapshots:
     species: np.ndarray | None = None
 
 
+def snapshot_count(path) -> int:
+    """How many snapshots a replica file stores (0 when none), without reading them."""
+    path = Path(path)
+    with _open(path) as f:
+        _params(path, f)
+        return f["particles/gas/position/step"].shape[0] if "particles/gas/position" in f else 0
+
+
 def read_snapshots(path) -> Snapshots:
     """Every stored snapshot of a replica file."""
     path = Path(path)

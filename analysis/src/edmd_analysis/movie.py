@@ -54,8 +54,7 @@ def pick_replica(out) -> int:
         path = index.replica_path(i)
         if not path.exists():
             continue
-        with io._open(path) as f:
-            k = f["particles/gas/position/step"].shape[0] if "particles/gas/position" in f else 0
+        k = io.snapshot_count(path)
         if k > most:
             best, most = int(index["index"][i]), k
     if best is None:
