@@ -182,6 +182,41 @@ impl<const D: usize> CellGrid<D> {
         Some(idx)
     }
 
+    /// [`CellGrid::neighbour`] for every code at once: entry `code` of the first 3^D is the linear
+    /// index of that neighbour, or `usize::MAX` where it lies beyond a wall. Built axis by axis
+    /// (three wrapped coordinates per axis, then sums), without a division per code.
+    #[inline]
+    pub fn neighbours(&self, c: &[u32; D], wall: impl Fn(usize) -> bool) -> [usize; 27] {
+        let mut out = [0usize; 27];
+        let mut filled = 1;
+        for a in 0..D {
+            let n = self.n[a] as i32;
+            let mut along = [0usize; 3];
+            for (digit, slot) in along.iter_mut().enumerate() {
+                let x = c[a] as i32 + digit as i32 - 1;
+                *slot = if (x < 0 || x >= n) && wall(a) {
+                    usize::MAX
+                } else {
+                    x.rem_euclid(n) as usize * self.stride[a]
+                };
+            }
+            // Entry k of the first 3^a expands into k + digit·3^a (higher k first, so that no entry
+            // is overwritten before it is read).
+            for k in (0..filled).rev() {
+                let base = out[k];
+                for (digit, &add) in along.iter().enumerate() {
+                    out[digit * filled + k] = if base == usize::MAX || add == usize::MAX {
+                        usize::MAX
+                    } else {
+                        base + add
+                    };
+                }
+            }
+            filled *= 3;
+        }
+        out
+    }
+
     /// First member of cell `idx`, or [`NONE`].
     #[inline(always)]
     pub fn first(&self, idx: usize) -> u32 {
@@ -256,6 +291,29 @@ mod tests {
         assert_eq!(g.neighbour(&c, 0, |a| a == 0), None);
         assert_eq!(g.neighbour(&c, 8, |a| a == 1), None);
         assert_eq!(g.neighbour(&c, 5, |a| a == 1), Some(2 * 4 + 1));
+    }
+
+    #[test]
+    fn all_neighbours_at_once_match_one_by_one() {
+        // Every cell of a small 3D grid (3 cells along y, so that neighbours wrap onto each other
+        // there), every code, with each axis periodic or walled.
+        let g = CellGrid::<3>::new(&vector![5.0, 3.0, 4.0], 1.0, 1.0, 1).unwrap();
+        for walls in 0..8u32 {
+            let wall = |a: usize| walls & (1 << a) != 0;
+            for idx in 0..g.len() {
+                let c = [
+                    (idx % g.stride[1]) as u32,
+                    ((idx / g.stride[1]) % g.n[1]) as u32,
+                    (idx / g.stride[2]) as u32,
+                ];
+                assert_eq!(g.index(&c), idx);
+                let all = g.neighbours(&c, wall);
+                for (code, &got) in all.iter().enumerate().take(27) {
+                    let want = g.neighbour(&c, code, wall).unwrap_or(usize::MAX);
+                    assert_eq!(got, want, "cell {c:?}, code {code}, walls {walls:03b}");
+                }
+            }
+        }
     }
 
     #[test]

@@ -8,6 +8,18 @@ use crate::nlist::NeighbourLists;
 use crate::predict::{pair_time, reach_time};
 use crate::{Boundary, CollisionRule, Vector};
 
+/// Partners per group of the list scan's cheap test (two SSE2 registers of `f64`).
+const LANES: usize = 2;
+
+/// Whether a pair with `b = r·v` and `room = σ² − |r|²` may touch within `limit` of now: a contact
+/// at t ≤ limit needs b < 0 and σ² − r² = 2bt + v²t² ≥ 2b·limit. A test without the root that
+/// rejects most partners, with a margin for round-off so that it never rejects one the root keeps.
+#[inline(always)]
+fn rootless_test(b: f64, room: f64, limit: f64) -> bool {
+    let bound = 2.0 * b * limit;
+    (b < 0.0) & (room >= bound - 1e-9 * bound.abs())
+}
+
 impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B, R, C> {
     /// Neighbour-list mode: draws every shell around the particle's current position, files each
     /// particle in the cell of its centre and fills all lists from scratch.
@@ -102,14 +114,13 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                 count += 1;
             }
         } else {
-            for code in 0..3usize.pow(D as u32) {
-                if out_of_reach(code) {
+            let cells = self.grid.neighbours(&ci, B::is_wall);
+            for (code, &idx) in cells[..3usize.pow(D as u32)].iter().enumerate() {
+                if out_of_reach(code) || idx == usize::MAX {
                     continue;
                 }
-                if let Some(idx) = self.grid.neighbour(&ci, code, B::is_wall) {
-                    firsts[count] = self.grid.first(idx);
-                    count += 1;
-                }
+                firsts[count] = self.grid.first(idx);
+                count += 1;
             }
         }
         for &k in &firsts[..count] {
@@ -194,12 +205,21 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     }
 
     /// Whether no listed partner of `i` can need a periodic image: its shell centre lies farther
-    /// than a list's reach plus both shells from every periodic face. A listed partner's centre is
-    /// then inside the box, and both particles within their shells, so their raw separation is
-    /// below half the box and equals the nearest image that [`Self::image_near`] would take.
+    /// than a list's reach from every periodic face, and a list's reach plus both shells is below
+    /// half the box. A listed partner's centre (within reach, both centres in the box) is then not
+    /// across a face, both particles lie within their shells (positions are wrapped only with their
+    /// centres), so their raw separation is at most reach plus both shells, below half the box: it
+    /// equals the nearest image that [`Self::image_near`] would take.
     #[inline(always)]
     fn far_from_periodic_faces(&self, nl: &NeighbourLists<D>, i: usize) -> bool {
-        self.centre_far_from_periodic_faces(&nl.centre[i], nl.max_reach + nl.skin)
+        let c = &nl.centre[i];
+        let margin = nl.max_reach;
+        (0..D).all(|a| {
+            B::is_wall(a)
+                || (margin + nl.skin < self.half_box[a]
+                    && c[a] > margin
+                    && c[a] < self.box_len[a] - margin)
+        })
     }
 
     /// Whether `c` lies farther than `margin` (< half the box) from every periodic face: then every
@@ -213,6 +233,13 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     }
 
     /// The list scan of [`Self::search_list`], with (`WRAP`) or without nearest images.
+    ///
+    /// Partners go through a cheap test in groups of [`LANES`]: the test without the root, written
+    /// lane by lane over arrays so that it compiles to packed arithmetic without branches. Only the
+    /// partners it keeps (about one in ten) get the exact time from [`Self::consider`], one by one
+    /// and in list order, so the result (ties included) is that of a one-by-one scan. The group's
+    /// test uses the bound `limit` of the group's start, which is never below the bound a one-by-one
+    /// scan would use there: it keeps at least the partners that scan would keep.
     #[inline(always)]
     fn scan_list<const WRAP: bool>(
         &self,
@@ -226,32 +253,100 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         let pos_i = pi.r0 + pi.vel * now;
         let vi2 = pi.vel.norm_squared();
         let mut limit = (best.0 - now).min(horizon - now);
-        for &j in list {
-            let pj = &self.particles[j as usize];
-            let pos_j = pj.r0 + pj.vel * now;
-            // The nearest image, exactly as `collide` takes it.
-            let dr = if WRAP {
-                self.image_near(&pos_i, &pos_j) - pos_j
-            } else {
-                pos_i - pos_j
-            };
-            let dv = pi.vel - pj.vel;
-            let sigma = pi.radius + pj.radius;
-            // A contact at t ≤ limit needs b = r·v < 0 and σ² − r² = 2bt + v²t² ≥ 2b·limit: a test
-            // without the root that rejects most partners, with a margin for round-off so that it
-            // never rejects one the root would keep.
-            let b = dr.dot(&dv);
-            let room = sigma * sigma - dr.norm_squared();
-            let bound = 2.0 * b * limit;
-            if (b < 0.0) & (room >= bound - 1e-9 * bound.abs()) {
-                let t = now + pair_time(&dr, &dv, sigma, vi2 + pj.vel.norm_squared());
-                if t < best.0 {
-                    best = (t, j);
-                    limit = limit.min(t - now);
+        // A last, partial group is filled up with `i` itself, which the test rejects (b = 0).
+        let full = list.len() / LANES * LANES;
+        let mut tail = [i as u32; LANES];
+        tail[..list.len() - full].copy_from_slice(&list[full..]);
+        let tail = (full < list.len()).then_some(&tail[..]);
+        for group in list[..full].chunks_exact(LANES).chain(tail) {
+            let mut r0 = [[0.0; LANES]; D];
+            let mut vel = [[0.0; LANES]; D];
+            let mut radius = [0.0; LANES];
+            for (k, &j) in group.iter().enumerate() {
+                let pj = &self.particles[j as usize];
+                for a in 0..D {
+                    r0[a][k] = pj.r0[a];
+                    vel[a][k] = pj.vel[a];
+                }
+                radius[k] = pj.radius;
+            }
+            let mut keep = [false; LANES];
+            for k in 0..LANES {
+                // b = r·v and |r|², summed over the axes in the order of `Vector::dot`.
+                let mut b = 0.0;
+                let mut dr2 = 0.0;
+                for a in 0..D {
+                    let pos = r0[a][k] + vel[a][k] * now;
+                    let d = if WRAP && !B::is_wall(a) {
+                        // `image_near`: the shifted position minus the partner's.
+                        let raw = pos_i[a] - pos;
+                        let up = if raw > self.half_box[a] {
+                            self.box_len[a]
+                        } else {
+                            0.0
+                        };
+                        let down = if raw < -self.half_box[a] {
+                            self.box_len[a]
+                        } else {
+                            0.0
+                        };
+                        (pos_i[a] - (up - down)) - pos
+                    } else {
+                        pos_i[a] - pos
+                    };
+                    let dv = pi.vel[a] - vel[a][k];
+                    if a == 0 {
+                        b = d * dv;
+                        dr2 = d * d;
+                    } else {
+                        b += d * dv;
+                        dr2 += d * d;
+                    }
+                }
+                let sigma = pi.radius + radius[k];
+                keep[k] = rootless_test(b, sigma * sigma - dr2, limit);
+            }
+            if keep.iter().any(|&k| k) {
+                for (k, &j) in group.iter().enumerate() {
+                    if keep[k] {
+                        self.consider::<WRAP>(&pi, &pos_i, vi2, j, &mut best, &mut limit);
+                    }
                 }
             }
         }
         best
+    }
+
+    /// One partner `j` of the list scan: the test without the root, then the exact contact time,
+    /// which replaces `best` (and tightens `limit`, relative to now) when it is earlier.
+    #[inline(always)]
+    fn consider<const WRAP: bool>(
+        &self,
+        pi: &crate::state::Particle<D>,
+        pos_i: &Vector<D>,
+        vi2: f64,
+        j: u32,
+        best: &mut (f64, u32),
+        limit: &mut f64,
+    ) {
+        let now = self.now;
+        let pj = &self.particles[j as usize];
+        let pos_j = pj.r0 + pj.vel * now;
+        // The nearest image, exactly as `collide` takes it.
+        let dr = if WRAP {
+            self.image_near(pos_i, &pos_j) - pos_j
+        } else {
+            pos_i - pos_j
+        };
+        let dv = pi.vel - pj.vel;
+        let sigma = pi.radius + pj.radius;
+        if rootless_test(dr.dot(&dv), sigma * sigma - dr.norm_squared(), *limit) {
+            let t = now + pair_time(&dr, &dv, sigma, vi2 + pj.vel.norm_squared());
+            if t < best.0 {
+                *best = (t, j);
+                *limit = limit.min(t - now);
+            }
+        }
     }
 
     /// Neighbour-list mode: the shell exit or wall contact of slot `i` (at now), whichever is first.
