@@ -199,30 +199,48 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     pub fn deepest_overlap(&self) -> Option<(usize, usize, f64)> {
         let pos: Vec<Vector<D>> = (0..self.len()).map(|s| self.position_of_slot(s)).collect();
         let mut worst: Option<(usize, usize, f64)> = None;
-        for i in 0..self.len() {
-            let ci = self.meta[i].cell;
-            for code in 0..3usize.pow(D as u32) {
-                let Some(idx) = self.grid.neighbour(&ci, code, B::is_wall) else {
+        // Particles cell by cell, so that the neighbour cells' members were read shortly before
+        // (slots need not be in cell order here: this runs before the first renumbering).
+        let members = (0..self.grid.len()).flat_map(|c| {
+            let first = self.grid.first(c);
+            std::iter::successors((first != NONE).then_some(first), |&k| {
+                let next = self.particles[k as usize].next_in_cell;
+                (next != NONE).then_some(next)
+            })
+        });
+        for i in members {
+            let i = i as usize;
+            let cells = self.grid.neighbours(&self.meta[i].cell, B::is_wall);
+            for &idx in &cells[..3usize.pow(D as u32)] {
+                if idx == usize::MAX {
                     continue;
-                };
+                }
                 let mut k = self.grid.first(idx);
                 while k != NONE {
                     let k_ = k as usize;
-                    if k_ > i {
-                        let mut dr = pos[i] - pos[k_];
-                        for a in 0..D {
-                            if !B::is_wall(a) {
-                                dr[a] -= self.box_len[a] * (dr[a] / self.box_len[a]).round();
-                            }
-                        }
-                        let sigma = self.particles[i].radius + self.particles[k_].radius;
-                        let depth = (sigma - dr.norm()) / sigma;
-                        if worst.is_none_or(|w| depth > w.2) {
-                            worst =
-                                Some((self.meta[i].id as usize, self.meta[k_].id as usize, depth));
+                    k = self.particles[k_].next_in_cell;
+                    if k_ <= i {
+                        continue;
+                    }
+                    let mut dr = pos[i] - pos[k_];
+                    for a in 0..D {
+                        if !B::is_wall(a) {
+                            dr[a] -= self.box_len[a] * (dr[a] / self.box_len[a]).round();
                         }
                     }
-                    k = self.particles[k_].next_in_cell;
+                    let sigma = self.particles[i].radius + self.particles[k_].radius;
+                    // depth > w needs |r| < σ(1 − w): a test without the root and the division
+                    // (with room for round-off) before the depth itself.
+                    if let Some(w) = worst {
+                        let reach = sigma * (1.0 - w.2);
+                        if reach <= 0.0 || dr.norm_squared() > reach * reach * (1.0 + 1e-9) {
+                            continue;
+                        }
+                    }
+                    let depth = (sigma - dr.norm()) / sigma;
+                    if worst.is_none_or(|w| depth > w.2) {
+                        worst = Some((self.meta[i].id as usize, self.meta[k_].id as usize, depth));
+                    }
                 }
             }
         }

@@ -141,3 +141,39 @@ fn polydisperse_disks() {
         "2D polydisperse eps=0.7",
     );
 }
+
+/// `deepest_overlap` (cells, pre-test without the root) against every pair with its nearest image,
+/// after enough events to mix the slots: the same depth, and a pair that has it.
+fn matches_all_pairs<const D: usize, B: Boundary>(p: InitParams<D>, label: &str) {
+    let mut sim = p.build::<B, _>(eps(0.8)).unwrap();
+    sim.run(Stop::Events(20_000));
+    let pos = sim.positions();
+    let sigma = 2.0 * p.radius;
+    let l = *sim.box_len();
+    let depth_of = |i: usize, j: usize| {
+        let mut dr = pos[i] - pos[j];
+        for a in 0..D {
+            if !B::is_wall(a) {
+                dr[a] -= l[a] * (dr[a] / l[a]).round();
+            }
+        }
+        (sigma - dr.norm()) / sigma
+    };
+    let mut want = f64::NEG_INFINITY;
+    for i in 0..pos.len() {
+        for j in i + 1..pos.len() {
+            want = want.max(depth_of(i, j));
+        }
+    }
+    let (i, j, got) = sim.deepest_overlap().unwrap();
+    assert_eq!(got, want, "{label}");
+    assert_eq!(depth_of(i, j), want, "{label}: pair ({i}, {j})");
+}
+
+#[test]
+fn deepest_overlap_matches_all_pairs() {
+    matches_all_pairs::<2, Periodic>(InitParams::with_packing(600, 0.5).unwrap(), "2D periodic");
+    matches_all_pairs::<2, Walls>(InitParams::with_packing(600, 0.3).unwrap(), "2D walls");
+    matches_all_pairs::<3, Periodic>(InitParams::with_packing(700, 0.45).unwrap(), "3D periodic");
+    matches_all_pairs::<3, Channel>(InitParams::with_packing(700, 0.2).unwrap(), "3D channel");
+}
