@@ -130,7 +130,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             }
         }
         // Centres farther than the reach from every periodic face have no neighbour across one.
-        let wrap = !self.centre_far_from_periodic_faces(&centre, nl.max_reach);
+        let wrap = !self.centre_far_from_periodic_faces(&centre, nl.max_reach, nl.max_reach);
         for &first in &firsts[..count] {
             let mut k = first;
             while k != NONE {
@@ -212,23 +212,17 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     /// equals the nearest image that [`Self::image_near`] would take.
     #[inline(always)]
     fn far_from_periodic_faces(&self, nl: &NeighbourLists<D>, i: usize) -> bool {
-        let c = &nl.centre[i];
-        let margin = nl.max_reach;
-        (0..D).all(|a| {
-            B::is_wall(a)
-                || (margin + nl.skin < self.half_box[a]
-                    && c[a] > margin
-                    && c[a] < self.box_len[a] - margin)
-        })
+        self.centre_far_from_periodic_faces(&nl.centre[i], nl.max_reach, nl.max_reach + nl.skin)
     }
 
-    /// Whether `c` lies farther than `margin` (< half the box) from every periodic face: then every
-    /// point within `margin` of it is its own nearest image.
+    /// Whether `c` lies farther than `margin` from every periodic face and `span` (≥ `margin`) is
+    /// below half the box: then every point within `margin` of it is its own nearest image, and so
+    /// is every separation up to `span` between points on the same side of the faces.
     #[inline(always)]
-    fn centre_far_from_periodic_faces(&self, c: &Vector<D>, margin: f64) -> bool {
+    fn centre_far_from_periodic_faces(&self, c: &Vector<D>, margin: f64, span: f64) -> bool {
         (0..D).all(|a| {
             B::is_wall(a)
-                || (margin < self.half_box[a] && c[a] > margin && c[a] < self.box_len[a] - margin)
+                || (span < self.half_box[a] && c[a] > margin && c[a] < self.box_len[a] - margin)
         })
     }
 
