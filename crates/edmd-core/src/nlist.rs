@@ -31,8 +31,11 @@ pub(crate) struct NeighbourLists<const D: usize> {
     items: Vec<u32>,
     /// The neighbours a renewal found, before they replace the old list.
     pub fresh: Vec<u32>,
-    /// The old list during a renewal.
-    old: Vec<u32>,
+    /// Per slot, the renewal stamp that last marked it ([`Self::renew`]): membership in the old and
+    /// the new list is read off it instead of searching one list for each entry of the other.
+    mark: Vec<u32>,
+    /// The stamp of the last renewal (even; the odd one above it marks "in both lists").
+    stamp: u32,
 }
 
 impl<const D: usize> NeighbourLists<D> {
@@ -48,7 +51,8 @@ impl<const D: usize> NeighbourLists<D> {
             len: vec![0; n],
             items: vec![0; n * cap],
             fresh: Vec::new(),
-            old: Vec::new(),
+            mark: vec![0; n],
+            stamp: 0,
         }
     }
 
@@ -109,22 +113,34 @@ impl<const D: usize> NeighbourLists<D> {
     /// Makes [`Self::fresh`] slot `i`'s list. Only the partners whose neighbourhood changed are
     /// touched: `i` leaves the lists of old neighbours that are not among the new ones and joins
     /// those of new ones (a renewal after a short flight changes a few of some 10–15, so most
-    /// partners' lists, which lie in lines far from `i`'s, are not read at all).
+    /// partners' lists, which lie in lines far from `i`'s, are not read at all). Which list a
+    /// partner is in is marked per slot with this renewal's stamp, so the work is linear in the
+    /// lists' lengths; removals come in the old list's order and additions in the new one's.
     pub fn renew(&mut self, i: usize) {
-        let mut old = std::mem::take(&mut self.old);
+        if self.stamp >= u32::MAX - 2 {
+            self.mark.fill(0);
+            self.stamp = 0;
+        }
+        self.stamp += 2;
+        let (new_only, both) = (self.stamp, self.stamp + 1);
         let fresh = std::mem::take(&mut self.fresh);
-        old.clear();
-        old.extend_from_slice(self.of(i));
-        for &j in &old {
-            if !fresh.contains(&j) {
-                self.remove(j as usize, i as u32);
+        for &j in &fresh {
+            self.mark[j as usize] = new_only;
+        }
+        let start = i * self.cap;
+        for k in start..start + self.len[i] as usize {
+            let j = self.items[k] as usize;
+            if self.mark[j] == new_only {
+                self.mark[j] = both;
+            } else {
+                self.remove(j, i as u32);
             }
         }
         while fresh.len() > self.cap {
             self.grow();
         }
         for &j in &fresh {
-            if !old.contains(&j) {
+            if self.mark[j as usize] == new_only {
                 if self.len[j as usize] as usize == self.cap {
                     self.grow();
                 }
@@ -134,7 +150,6 @@ impl<const D: usize> NeighbourLists<D> {
         let start = i * self.cap;
         self.items[start..start + fresh.len()].copy_from_slice(&fresh);
         self.len[i] = fresh.len() as u32;
-        self.old = old;
         self.fresh = fresh;
     }
 
@@ -194,7 +209,7 @@ impl<const D: usize> NeighbourLists<D> {
         4 * (self.items.capacity()
             + self.len.capacity()
             + self.fresh.capacity()
-            + self.old.capacity())
+            + self.mark.capacity())
             + self.centre.capacity() * std::mem::size_of::<Vector<D>>()
     }
 }
