@@ -2,9 +2,11 @@
 //!
 //! [`PaulCalendar`] follows G. Paul, J. Comput. Phys. 221, 615 (2007): time is cut into buckets of a
 //! fixed width; the current bucket is a small indexed binary heap, the next `M` buckets are unsorted
-//! intrusive lists (O(1) insert and remove), and everything later waits in an overflow list that is
-//! redistributed once per cycle of `M` buckets. With a width of a few mean inter-event times the heap
-//! stays a handful of entries long, so every operation is O(1) amortised.
+//! (up to six entries in place, in half a cache line, and a spill list beyond: O(1) insert and
+//! remove that touch only the bucket and the particle's own entry), and everything later waits in an
+//! unordered overflow array that is redistributed once per cycle of `M` buckets. With a width of a
+//! few mean inter-event times the heap stays a handful of entries long, so every operation is O(1)
+//! amortised.
 //!
 //! [`HeapCalendar`] is a plain `BinaryHeap` with lazy deletion. It has the same API and exists as a
 //! test oracle and as the benchmark baseline.

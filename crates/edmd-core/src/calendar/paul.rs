@@ -4,31 +4,53 @@ use super::{earlier, Calendar};
 
 const NONE: u32 = u32::MAX;
 const IN_HEAP: u32 = 1 << 31;
+const IN_OVERFLOW: u32 = 1 << 30;
+/// Entries a bucket holds in its own cache-line half; more spill into a list through the slots.
+const INLINE: usize = 6;
 
 /// One particle's place in a [`PaulCalendar`].
 #[derive(Debug, Clone, Copy)]
 struct Slot {
     time: f64,
+    /// The next entry of its bucket's spill list.
     next: u32,
-    prev: u32,
-    /// `NONE`, `IN_HEAP | position`, or a list index (bucket, or `nb` = overflow).
+    /// `NONE`, `IN_HEAP | heap position`, `IN_OVERFLOW | overflow position`, or a bucket index.
     loc: u32,
 }
 
 const EMPTY_SLOT: Slot = Slot {
     time: f64::INFINITY,
     next: NONE,
-    prev: NONE,
     loc: NONE,
+};
+
+/// One bucket: up to [`INLINE`] particles in place, the rest in a singly linked spill list (rare:
+/// the width aims at a few entries per bucket). Filing or removing an entry then touches the
+/// bucket's line and the particle's own slot, not the slots of unrelated particles that a linked
+/// bucket would thread through.
+#[derive(Debug, Clone, Copy)]
+#[repr(C, align(32))]
+struct Bucket {
+    len: u32,
+    spill: u32,
+    ids: [u32; INLINE],
+}
+
+const EMPTY_BUCKET: Bucket = Bucket {
+    len: 0,
+    spill: NONE,
+    ids: [NONE; INLINE],
 };
 
 /// O(1)-amortised calendar of Paul (2007); see the module documentation.
 #[derive(Debug, Clone)]
 pub struct PaulCalendar {
-    /// Per-particle entry: time, list links and location, together in one cache line.
+    /// Per-particle entry: time, spill link and location.
     slots: Vec<Slot>,
-    /// Heads of the `nb` bucket lists, then the overflow list.
-    heads: Vec<u32>,
+    /// The `nb` buckets of one cycle.
+    buckets: Vec<Bucket>,
+    /// Entries beyond the cycle, unordered (removal swaps the last one into the hole).
+    overflow: Vec<u32>,
     heap: Vec<(f64, u32)>,
     origin: f64,
     width: f64,
@@ -37,7 +59,6 @@ pub struct PaulCalendar {
     cur: i64,
     nb: usize,
     in_buckets: usize,
-    in_overflow: usize,
     len: usize,
 }
 
@@ -60,27 +81,47 @@ impl PaulCalendar {
     }
 
     #[inline]
-    fn link(&mut self, i: u32, list: usize) {
-        let h = self.heads[list];
-        self.slots[i as usize].next = h;
-        self.slots[i as usize].prev = NONE;
-        if h != NONE {
-            self.slots[h as usize].prev = i;
+    fn link(&mut self, i: u32, b: usize) {
+        let bucket = &mut self.buckets[b];
+        let l = bucket.len as usize;
+        if l < INLINE {
+            bucket.ids[l] = i;
+            bucket.len += 1;
+        } else {
+            self.slots[i as usize].next = bucket.spill;
+            bucket.spill = i;
         }
-        self.heads[list] = i;
-        self.slots[i as usize].loc = list as u32;
+        self.slots[i as usize].loc = b as u32;
     }
 
     #[inline]
-    fn unlink(&mut self, i: u32, list: usize) {
-        let (n, p) = (self.slots[i as usize].next, self.slots[i as usize].prev);
-        if p == NONE {
-            self.heads[list] = n;
-        } else {
-            self.slots[p as usize].next = n;
+    fn unlink(&mut self, i: u32, b: usize) {
+        let bucket = &mut self.buckets[b];
+        let l = bucket.len as usize;
+        if let Some(k) = bucket.ids[..l].iter().position(|&x| x == i) {
+            bucket.ids[k] = bucket.ids[l - 1];
+            // Refill from the spill list, so that the list stays empty while the bucket has room.
+            let s = bucket.spill;
+            if s == NONE {
+                bucket.len -= 1;
+            } else {
+                bucket.ids[l - 1] = s;
+                bucket.spill = self.slots[s as usize].next;
+            }
+            return;
         }
-        if n != NONE {
-            self.slots[n as usize].prev = p;
+        let mut prev = NONE;
+        let mut k = bucket.spill;
+        while k != i {
+            debug_assert!(k != NONE, "particle {i} not in bucket {b}");
+            prev = k;
+            k = self.slots[k as usize].next;
+        }
+        let next = self.slots[i as usize].next;
+        if prev == NONE {
+            bucket.spill = next;
+        } else {
+            self.slots[prev as usize].next = next;
         }
     }
 
@@ -90,14 +131,23 @@ impl PaulCalendar {
         let k = self.bucket_of(t) - self.cur;
         if k <= 0 {
             self.heap_push(t, i);
+        } else if (k as u64) < self.nb as u64 {
+            self.link(i, ((self.cur + k) as u64 as usize) & (self.nb - 1));
+            self.in_buckets += 1;
         } else {
-            if (k as u64) < self.nb as u64 {
-                self.link(i, ((self.cur + k) as u64 as usize) & (self.nb - 1));
-                self.in_buckets += 1;
-            } else {
-                self.link(i, self.nb);
-                self.in_overflow += 1;
-            }
+            self.slots[i as usize].loc = IN_OVERFLOW | self.overflow.len() as u32;
+            self.overflow.push(i);
+        }
+    }
+
+    fn overflow_remove(&mut self, pos: usize) {
+        let last = self
+            .overflow
+            .pop()
+            .expect("overflow position of a filed particle");
+        if pos < self.overflow.len() {
+            self.overflow[pos] = last;
+            self.slots[last as usize].loc = IN_OVERFLOW | pos as u32;
         }
     }
 
@@ -163,16 +213,24 @@ impl PaulCalendar {
         }
     }
 
-    /// Moves overflow entries that fall in the coming cycle into buckets (or the heap).
+    /// Moves overflow entries that fall in the coming cycle into buckets (or the heap); the rest
+    /// close up in place.
     fn redistribute(&mut self) {
-        let mut i = self.heads[self.nb];
-        self.heads[self.nb] = NONE;
-        self.in_overflow = 0;
-        while i != NONE {
-            let next = self.slots[i as usize].next;
-            self.insert(i, self.slots[i as usize].time);
-            i = next;
+        let mut overflow = std::mem::take(&mut self.overflow);
+        let mut kept = 0;
+        for k in 0..overflow.len() {
+            let i = overflow[k];
+            let t = self.slots[i as usize].time;
+            if self.bucket_of(t) - self.cur >= self.nb as i64 {
+                overflow[kept] = i;
+                self.slots[i as usize].loc = IN_OVERFLOW | kept as u32;
+                kept += 1;
+            } else {
+                self.insert(i, t);
+            }
         }
+        overflow.truncate(kept);
+        self.overflow = overflow;
     }
 
     /// Advances to the next non-empty bucket and loads it into the heap.
@@ -180,12 +238,11 @@ impl PaulCalendar {
         debug_assert!(self.heap.is_empty() && self.len > 0);
         if self.in_buckets == 0 {
             // Every bucket is empty: jump to the cycle that holds the earliest overflow entry.
-            let mut tmin = f64::INFINITY;
-            let mut i = self.heads[self.nb];
-            while i != NONE {
-                tmin = tmin.min(self.slots[i as usize].time);
-                i = self.slots[i as usize].next;
-            }
+            let tmin = self
+                .overflow
+                .iter()
+                .map(|&i| self.slots[i as usize].time)
+                .fold(f64::INFINITY, f64::min);
             let nb = self.nb as i64;
             let start = self.bucket_of(tmin).div_euclid(nb) * nb;
             if start > self.cur {
@@ -202,8 +259,12 @@ impl PaulCalendar {
             if b == 0 {
                 self.redistribute();
             }
-            let mut i = self.heads[b];
-            self.heads[b] = NONE;
+            let bucket = std::mem::replace(&mut self.buckets[b], EMPTY_BUCKET);
+            for &i in &bucket.ids[..bucket.len as usize] {
+                self.in_buckets -= 1;
+                self.heap_push(self.slots[i as usize].time, i);
+            }
+            let mut i = bucket.spill;
             while i != NONE {
                 let next = self.slots[i as usize].next;
                 self.in_buckets -= 1;
@@ -222,7 +283,8 @@ impl Calendar for PaulCalendar {
         let nb = n.max(16).next_power_of_two();
         PaulCalendar {
             slots: vec![EMPTY_SLOT; n],
-            heads: vec![NONE; nb + 1],
+            buckets: vec![EMPTY_BUCKET; nb],
+            overflow: Vec::new(),
             heap: Vec::with_capacity(64),
             origin: 0.0,
             width: 1.0,
@@ -230,7 +292,6 @@ impl Calendar for PaulCalendar {
             cur: 0,
             nb,
             in_buckets: 0,
-            in_overflow: 0,
             len: 0,
         }
     }
@@ -253,13 +314,11 @@ impl Calendar for PaulCalendar {
         }
         if l & IN_HEAP != 0 {
             self.heap_remove((l & !IN_HEAP) as usize);
+        } else if l & IN_OVERFLOW != 0 {
+            self.overflow_remove((l & !IN_OVERFLOW) as usize);
         } else {
             self.unlink(i, l as usize);
-            if l as usize == self.nb {
-                self.in_overflow -= 1;
-            } else {
-                self.in_buckets -= 1;
-            }
+            self.in_buckets -= 1;
         }
         self.slots[i as usize].loc = NONE;
         self.len -= 1;
@@ -305,14 +364,14 @@ impl Calendar for PaulCalendar {
             "calendar bucket width must be positive"
         );
         self.slots.fill(EMPTY_SLOT);
-        self.heads.fill(NONE);
+        self.buckets.fill(EMPTY_BUCKET);
+        self.overflow.clear();
         self.heap.clear();
         self.origin = origin;
         self.width = width;
         self.inv_width = 1.0 / width;
         self.cur = 0;
         self.in_buckets = 0;
-        self.in_overflow = 0;
         self.len = 0;
     }
 }

@@ -61,6 +61,7 @@ fn paul_matches_binary_heap() {
     compare(1000, 1e-3, 200_000, 1);
     compare(50, 0.5, 100_000, 2); // wide buckets: big heap
     compare(300, 1e-6, 50_000, 3); // narrow buckets: mostly overflow
+    compare(1000, 0.05, 200_000, 4); // ~16 entries per bucket: spill lists in use
 }
 
 #[test]
