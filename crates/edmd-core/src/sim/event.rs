@@ -92,10 +92,32 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                 EventKind::CellCrossing(id)
             }
         };
+        if S::LISTS && self.look_ahead {
+            self.prefetch_next_partner();
+        }
         if self.counters.events >= self.next_maintenance {
             self.maintenance();
         }
         Some(kind)
+    }
+
+    /// Neighbour-list mode: asks for the lines the next event will read after its own particle's
+    /// (prefetched when it reached the calendar's front): its collision partner's record,
+    /// bookkeeping and list. Their address needs the next particle's bookkeeping, which has arrived
+    /// by the end of the current event. (In cell mode the same, and the first members of the
+    /// neighbour cells, measured no gain: docs/benchmarks.md.)
+    #[inline]
+    fn prefetch_next_partner(&self) {
+        let (Some(next), Some(nl)) = (self.calendar.next_hint(), &self.nl) else {
+            return;
+        };
+        let e = &self.meta[next as usize].ev;
+        if e.coll_t <= e.aux_t && e.partner != NONE {
+            let j = e.partner as usize;
+            crate::prefetch::prefetch(&self.particles[j]);
+            crate::prefetch::prefetch(&self.meta[j]);
+            nl.prefetch(j);
+        }
     }
 
     /// The event slot `i` holds now: its collision candidate if that comes first, else its

@@ -39,6 +39,11 @@ mod run;
 mod upkeep;
 
 use collapse::CollapseMonitor;
+
+/// Engine arrays beyond which each event in neighbour-list mode prefetches the next one's partner
+/// (`Simulation::prefetch_next_partner`): twice a large last-level cache. Below it those lines are
+/// mostly cached and the extra loads cost more than they hide (docs/benchmarks.md).
+const LOOK_AHEAD_BYTES: usize = 64 << 20;
 pub use collapse::{Collapse, CollapseReason};
 pub use event::EventKind;
 pub use params::SimParams;
@@ -170,6 +175,9 @@ pub struct Simulation<const D: usize, B: Boundary, R: CollisionRule, C: Calendar
     monitor: CollapseMonitor,
     next_maintenance: u64,
     last_maintenance: (u64, f64),
+    /// Whether the state is far larger than a cache, so that each event ends by asking for what
+    /// the next one will read (`Self::prefetch_next_partner`).
+    look_ahead: bool,
     _boundary: PhantomData<B>,
 }
 
@@ -313,6 +321,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             monitor: CollapseMonitor::default(),
             next_maintenance: 0,
             last_maintenance: (0, 0.0),
+            look_ahead: false,
             _boundary: PhantomData,
         };
         for i in 0..n {
@@ -326,6 +335,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         }
         sim.build_lists();
         sim.restart_events();
+        sim.look_ahead = sim.heap_bytes() > LOOK_AHEAD_BYTES;
         Ok(sim)
     }
 
@@ -353,6 +363,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             monitor: self.monitor,
             next_maintenance: self.next_maintenance,
             last_maintenance: self.last_maintenance,
+            look_ahead: self.look_ahead,
             _boundary: PhantomData,
         }
     }
