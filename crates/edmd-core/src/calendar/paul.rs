@@ -280,7 +280,14 @@ impl PaulCalendar {
 
 impl Calendar for PaulCalendar {
     fn with_capacity(n: usize) -> Self {
-        let nb = n.max(16).next_power_of_two();
+        // The power of two nearest to n: about one 32-byte bucket per particle (a cycle then spans
+        // ~N mean inter-event times), never the nearly two per particle of rounding up.
+        let up = n.max(16).next_power_of_two();
+        let nb = if up - n.max(16) > n.max(16) - up / 2 {
+            up / 2
+        } else {
+            up
+        };
         PaulCalendar {
             slots: vec![EMPTY_SLOT; n],
             buckets: vec![EMPTY_BUCKET; nb],
