@@ -63,11 +63,18 @@ impl<const D: usize> NeighbourLists<D> {
         &self.items[start..start + self.len[i] as usize]
     }
 
-    /// Asks for the first cache line of slot `i`'s list (the next event's particle will scan it).
+    /// Asks for what a prediction of slot `i` reads of the lists: the first cache line of its list,
+    /// its length and its shell centre (the next event's particle will read them).
     #[inline(always)]
     pub fn prefetch(&self, i: usize) {
-        if let Some(first) = self.items.get(i * self.cap) {
+        if let (Some(first), Some(len), Some(centre)) = (
+            self.items.get(i * self.cap),
+            self.len.get(i),
+            self.centre.get(i),
+        ) {
             crate::prefetch::prefetch(first);
+            crate::prefetch::prefetch(len);
+            crate::prefetch::prefetch(centre);
         }
     }
 

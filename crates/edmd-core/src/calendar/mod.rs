@@ -37,6 +37,17 @@ pub trait Calendar: std::fmt::Debug + Send {
     fn next_hint(&self) -> Option<u32> {
         None
     }
+    /// Asks for the cache line of particle `i`'s entry, which its next filing will touch (a hint).
+    #[inline(always)]
+    fn prefetch(&self, i: u32) {
+        let _ = i;
+    }
+    /// Asks for the lines that filing an entry at time `t`, and removing particle `i`'s present
+    /// one, will touch (a hint: called where the time is known some work before the filing).
+    #[inline(always)]
+    fn prefetch_filing(&self, i: u32, t: f64) {
+        let _ = (i, t);
+    }
     /// Empties the calendar and sets its time origin and bucket width (a hint; `width > 0`).
     fn reset(&mut self, origin: f64, width: f64);
 }

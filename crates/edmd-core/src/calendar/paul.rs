@@ -272,8 +272,22 @@ impl PaulCalendar {
                 i = next;
             }
             if !self.heap.is_empty() {
+                self.prefetch_ahead();
                 return;
             }
+        }
+    }
+
+    /// Asks for the next two buckets' lines and the entries of the next one (whose line the
+    /// previous advance asked for): the advance after this one then finds them in cache, and
+    /// [`Calendar::next_hint`] can name the next bucket's first entry while the heap is empty.
+    #[inline]
+    fn prefetch_ahead(&self) {
+        let mask = self.nb - 1;
+        let next = &self.buckets[(self.cur.wrapping_add(1) as u64 as usize) & mask];
+        crate::prefetch::prefetch(&self.buckets[(self.cur.wrapping_add(2) as u64 as usize) & mask]);
+        for &i in &next.ids[..(next.len as usize).min(INLINE)] {
+            crate::prefetch::prefetch(&self.slots[i as usize]);
         }
     }
 }
@@ -362,7 +376,37 @@ impl Calendar for PaulCalendar {
 
     #[inline(always)]
     fn next_hint(&self) -> Option<u32> {
-        self.heap.first().map(|e| e.1)
+        match self.heap.first() {
+            Some(e) => Some(e.1),
+            // The heap runs dry after its last entry: the next bucket's first entry is the best
+            // guess (its line was asked for at the last advance).
+            None => {
+                let b = &self.buckets[(self.cur.wrapping_add(1) as u64 as usize) & (self.nb - 1)];
+                (b.len > 0).then_some(b.ids[0])
+            }
+        }
+    }
+
+    #[inline(always)]
+    fn prefetch(&self, i: u32) {
+        if let Some(slot) = self.slots.get(i as usize) {
+            crate::prefetch::prefetch(slot);
+        }
+    }
+
+    #[inline(always)]
+    fn prefetch_filing(&self, i: u32, t: f64) {
+        let k = self.bucket_of(t) - self.cur;
+        if k > 0 && (k as u64) < self.nb as u64 {
+            let b = ((self.cur + k) as u64 as usize) & (self.nb - 1);
+            crate::prefetch::prefetch(&self.buckets[b]);
+        }
+        if let Some(slot) = self.slots.get(i as usize) {
+            let l = slot.loc;
+            if l & (IN_HEAP | IN_OVERFLOW) == 0 && (l as usize) < self.buckets.len() {
+                crate::prefetch::prefetch(&self.buckets[l as usize]);
+            }
+        }
     }
 
     fn reset(&mut self, origin: f64, width: f64) {

@@ -48,6 +48,9 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         if let Some(next) = self.calendar.next_hint() {
             crate::prefetch::prefetch(&self.particles[next as usize]);
             crate::prefetch::prefetch(&self.meta[next as usize]);
+            if self.look_ahead {
+                self.calendar.prefetch(next);
+            }
             if S::LISTS {
                 if let Some(nl) = &self.nl {
                     nl.prefetch(next as usize);
@@ -68,8 +71,18 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                     }
                 }
                 self.collide(i, j);
-                self.predict::<S>(i);
-                self.predict::<S>(j);
+                // Both predictions before either filing: the calendar lines each filing touches
+                // are asked for as soon as its time is known and arrive during the other's work.
+                let ti = self.predict_event::<S>(i);
+                if self.look_ahead {
+                    self.calendar.prefetch_filing(i as u32, ti);
+                }
+                let tj = self.predict_event::<S>(j);
+                if self.look_ahead {
+                    self.calendar.prefetch_filing(j as u32, tj);
+                }
+                self.calendar.schedule(i as u32, ti);
+                self.calendar.schedule(j as u32, tj);
                 self.watch_collapse(i as u32, j as u32);
                 EventKind::Collision(id, self.meta[j].id)
             }
@@ -116,6 +129,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             let j = e.partner as usize;
             crate::prefetch::prefetch(&self.particles[j]);
             crate::prefetch::prefetch(&self.meta[j]);
+            self.calendar.prefetch(j as u32);
             nl.prefetch(j);
         }
     }
