@@ -15,25 +15,28 @@ use std::time::Instant;
 use clap::Parser;
 use serde::Serialize;
 
-use edmd::{ConstantRestitution, InitParams, Periodic, Stop};
+use edmd::{ConstantRestitution, InitParams, LineAligned, Periodic, Stop};
 
 struct Counting;
 static CURRENT: AtomicUsize = AtomicUsize::new(0);
 static PEAK: AtomicUsize = AtomicUsize::new(0);
 
-// SAFETY-free wrapper: forwards to the system allocator and only counts bytes.
+// Forwards to the engine's line-aligning allocator (what the `edmd` binary runs with) and only
+// counts bytes.
 #[allow(unsafe_code)]
 unsafe impl GlobalAlloc for Counting {
     unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
         let now = CURRENT.fetch_add(layout.size(), Relaxed) + layout.size();
         PEAK.fetch_max(now, Relaxed);
-        unsafe { System.alloc(layout) }
+        unsafe { INNER.alloc(layout) }
     }
     unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
         CURRENT.fetch_sub(layout.size(), Relaxed);
-        unsafe { System.dealloc(ptr, layout) }
+        unsafe { INNER.dealloc(ptr, layout) }
     }
 }
+
+static INNER: LineAligned = LineAligned(System);
 
 #[global_allocator]
 static ALLOC: Counting = Counting;

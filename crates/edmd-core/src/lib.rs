@@ -26,6 +26,7 @@
 //! ```
 #![warn(missing_docs)]
 
+mod alloc;
 pub mod boundary;
 pub mod calendar;
 pub mod cells;
@@ -46,6 +47,7 @@ pub mod theory;
 /// A D-dimensional `f64` vector.
 pub type Vector<const D: usize> = nalgebra::SVector<f64, D>;
 
+pub use alloc::LineAligned;
 pub use boundary::{Axes, Boundary, Channel, Column, Container, GravityAxes, Periodic, Walls};
 pub use calendar::{Calendar, HeapCalendar, PaulCalendar};
 pub use cells::CellGrid;
