@@ -98,3 +98,19 @@ fn unequal_masses_start_in_equipartition() {
         assert!((t - 1.0).abs() < 0.05, "species temperature {t}");
     }
 }
+
+#[test]
+fn large_list_mode_systems_get_the_wider_skin_and_others_keep_theirs() {
+    let skin = |n: usize, phi: f64| {
+        InitParams::<3>::with_packing(n, phi)
+            .unwrap()
+            .default_sim_params()
+            .neighbour_skin
+    };
+    let small = skin(LARGE_LIST_N - 1, 0.45);
+    assert_eq!(small, SimParams::for_density::<3>(0.45).neighbour_skin);
+    assert!(small > 0.0 && small < LARGE_LIST_SKIN);
+    assert_eq!(skin(LARGE_LIST_N, 0.45), LARGE_LIST_SKIN);
+    // Cell mode (a dilute gas) stays in cell mode at any size.
+    assert_eq!(skin(LARGE_LIST_N, 0.1), 0.0);
+}
