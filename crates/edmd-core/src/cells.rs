@@ -128,6 +128,28 @@ impl<const D: usize> CellGrid<D> {
         inside
     }
 
+    /// Asks for the line of cell `idx`'s head (a hint).
+    #[inline(always)]
+    pub(crate) fn prefetch_head(&self, idx: usize) {
+        if let Some(h) = self.head.get(idx) {
+            crate::prefetch::prefetch(h);
+        }
+    }
+
+    /// Asks for the line of member `i`'s backward link, which moving it to another cell writes.
+    #[inline(always)]
+    pub(crate) fn prefetch_link(&self, i: usize) {
+        if let Some(p) = self.prev.get(i) {
+            crate::prefetch::prefetch(p);
+        }
+    }
+
+    /// Member `i`'s predecessor in its cell, or [`NONE`] (`i` is its cell's first member).
+    #[inline(always)]
+    pub(crate) fn before(&self, i: usize) -> u32 {
+        self.prev[i]
+    }
+
     /// Number of cells.
     pub fn len(&self) -> usize {
         self.head.len()

@@ -48,6 +48,24 @@ pub trait Calendar: std::fmt::Debug + Send {
     fn prefetch_filing(&self, i: u32, t: f64) {
         let _ = (i, t);
     }
+    /// The particles filed in the bucket `k` places after the current one, as far as it holds them
+    /// in place (a hint for a look-ahead several events deep; empty where unknown). Reads that
+    /// bucket's line.
+    #[inline(always)]
+    fn ahead(&self, k: usize) -> &[u32] {
+        let _ = k;
+        &[]
+    }
+    /// Asks for the line of the bucket `k` places after the current one (a hint).
+    #[inline(always)]
+    fn prefetch_bucket(&self, k: usize) {
+        let _ = k;
+    }
+    /// The current bucket's number: it changes whenever the calendar moves on to a later bucket.
+    #[inline(always)]
+    fn position(&self) -> i64 {
+        0
+    }
     /// Empties the calendar and sets its time origin and bucket width (a hint; `width > 0`).
     fn reset(&mut self, origin: f64, width: f64);
 }

@@ -5,6 +5,10 @@ use super::{earlier, Calendar};
 const NONE: u32 = u32::MAX;
 const IN_HEAP: u32 = 1 << 31;
 const IN_OVERFLOW: u32 = 1 << 30;
+/// Filed in a bucket, but not yet linked into it (see [`PaulCalendar::deferred`]).
+const DEFERRED: u32 = IN_HEAP | IN_OVERFLOW;
+/// Filings held back at most before they are all linked at once.
+const DEFER: usize = 32;
 /// Entries a bucket holds in its own cache-line half; more spill into a list through the slots.
 const INLINE: usize = 6;
 
@@ -14,7 +18,8 @@ struct Slot {
     time: f64,
     /// The next entry of its bucket's spill list.
     next: u32,
-    /// `NONE`, `IN_HEAP | heap position`, `IN_OVERFLOW | overflow position`, or a bucket index.
+    /// `NONE`, `IN_HEAP | heap position`, `IN_OVERFLOW | overflow position`, `DEFERRED |
+    /// position among the deferred filings`, or a bucket index.
     loc: u32,
 }
 
@@ -52,6 +57,11 @@ pub struct PaulCalendar {
     /// Entries beyond the cycle, unordered (removal swaps the last one into the hole).
     overflow: Vec<u32>,
     heap: Vec<(f64, u32)>,
+    /// Filings into buckets after the current one, as `(particle, bucket)`, whose bucket line was
+    /// asked for but not yet written: linked when the calendar next moves to a new bucket (no
+    /// bucket is read before that), by which time the line has arrived instead of stalling the
+    /// event that filed them. The order of pops does not change.
+    deferred: Vec<(u32, u32)>,
     origin: f64,
     width: f64,
     inv_width: f64,
@@ -125,8 +135,48 @@ impl PaulCalendar {
         }
     }
 
+    /// Files particle `i` at time `t`; a bucket filing is deferred (see [`Self::deferred`]).
     #[inline]
     fn insert(&mut self, i: u32, t: f64) {
+        self.slots[i as usize].time = t;
+        let k = self.bucket_of(t) - self.cur;
+        if k <= 0 {
+            self.heap_push(t, i);
+        } else if (k as u64) < self.nb as u64 {
+            let b = ((self.cur + k) as u64 as usize) & (self.nb - 1);
+            crate::prefetch::prefetch(&self.buckets[b]);
+            if self.deferred.len() == DEFER {
+                self.link_deferred();
+            }
+            self.slots[i as usize].loc = DEFERRED | self.deferred.len() as u32;
+            self.deferred.push((i, b as u32));
+            self.in_buckets += 1;
+        } else {
+            self.slots[i as usize].loc = IN_OVERFLOW | self.overflow.len() as u32;
+            self.overflow.push(i);
+        }
+    }
+
+    /// Links every deferred filing into its bucket.
+    fn link_deferred(&mut self) {
+        for k in 0..self.deferred.len() {
+            let (i, b) = self.deferred[k];
+            self.link(i, b as usize);
+        }
+        self.deferred.clear();
+    }
+
+    /// Removes the deferred filing at `pos`; the last one takes its place.
+    fn deferred_remove(&mut self, pos: usize) {
+        self.deferred.swap_remove(pos);
+        if let Some(&(moved, _)) = self.deferred.get(pos) {
+            self.slots[moved as usize].loc = DEFERRED | pos as u32;
+        }
+    }
+
+    /// Files particle `i` at time `t` at once (while the calendar redistributes its overflow).
+    #[inline]
+    fn insert_now(&mut self, i: u32, t: f64) {
         self.slots[i as usize].time = t;
         let k = self.bucket_of(t) - self.cur;
         if k <= 0 {
@@ -226,7 +276,7 @@ impl PaulCalendar {
                 self.slots[i as usize].loc = IN_OVERFLOW | kept as u32;
                 kept += 1;
             } else {
-                self.insert(i, t);
+                self.insert_now(i, t);
             }
         }
         overflow.truncate(kept);
@@ -236,6 +286,7 @@ impl PaulCalendar {
     /// Advances to the next non-empty bucket and loads it into the heap.
     fn advance(&mut self) {
         debug_assert!(self.heap.is_empty() && self.len > 0);
+        self.link_deferred();
         if self.in_buckets == 0 {
             // Every bucket is empty: jump to the cycle that holds the earliest overflow entry.
             let tmin = self
@@ -307,6 +358,7 @@ impl Calendar for PaulCalendar {
             buckets: vec![EMPTY_BUCKET; nb],
             overflow: Vec::new(),
             heap: Vec::with_capacity(64),
+            deferred: Vec::with_capacity(DEFER),
             origin: 0.0,
             width: 1.0,
             inv_width: 1.0,
@@ -333,7 +385,10 @@ impl Calendar for PaulCalendar {
         if l == NONE {
             return;
         }
-        if l & IN_HEAP != 0 {
+        if l & DEFERRED == DEFERRED {
+            self.deferred_remove((l & !DEFERRED) as usize);
+            self.in_buckets -= 1;
+        } else if l & IN_HEAP != 0 {
             self.heap_remove((l & !IN_HEAP) as usize);
         } else if l & IN_OVERFLOW != 0 {
             self.overflow_remove((l & !IN_OVERFLOW) as usize);
@@ -409,6 +464,23 @@ impl Calendar for PaulCalendar {
         }
     }
 
+    #[inline(always)]
+    fn ahead(&self, k: usize) -> &[u32] {
+        let b = &self.buckets[(self.cur.wrapping_add(k as i64) as u64 as usize) & (self.nb - 1)];
+        &b.ids[..(b.len as usize).min(INLINE)]
+    }
+
+    #[inline(always)]
+    fn prefetch_bucket(&self, k: usize) {
+        let b = (self.cur.wrapping_add(k as i64) as u64 as usize) & (self.nb - 1);
+        crate::prefetch::prefetch(&self.buckets[b]);
+    }
+
+    #[inline(always)]
+    fn position(&self) -> i64 {
+        self.cur
+    }
+
     fn reset(&mut self, origin: f64, width: f64) {
         assert!(
             width > 0.0 && width.is_finite(),
@@ -418,6 +490,7 @@ impl Calendar for PaulCalendar {
         self.buckets.fill(EMPTY_BUCKET);
         self.overflow.clear();
         self.heap.clear();
+        self.deferred.clear();
         self.origin = origin;
         self.width = width;
         self.inv_width = 1.0 / width;

@@ -84,3 +84,67 @@ fn infinite_time_means_unscheduled() {
     assert!(c.is_empty());
     assert_eq!(c.pop(), None);
 }
+
+/// Bursts of filings between pops, more than the Paul calendar defers before linking them, and
+/// removals of filings still deferred: the same pops as the heap.
+#[test]
+fn deferred_filings_overflow_and_removal_match_the_heap() {
+    let n = 500;
+    let mut rng = Xoshiro256PlusPlus::seed_from_u64(9);
+    let mut a = PaulCalendar::with_capacity(n);
+    let mut b = HeapCalendar::with_capacity(n);
+    a.reset(0.0, 0.01);
+    b.reset(0.0, 0.01);
+    let mut now = 0.0;
+    for _ in 0..300 {
+        for _ in 0..100 {
+            let i = rng.random_range(0..n as u32);
+            let t = now + rng.random::<f64>();
+            a.schedule(i, t);
+            b.schedule(i, t);
+        }
+        for _ in 0..20 {
+            let j = rng.random_range(0..n as u32);
+            a.remove(j);
+            b.remove(j);
+        }
+        assert_eq!(a.len(), b.len());
+        for _ in 0..50 {
+            let (pa, pb) = (a.pop(), b.pop());
+            assert_eq!(pa, pb);
+            match pa {
+                Some((_, t)) => now = t,
+                None => break,
+            }
+        }
+    }
+}
+
+/// The look-ahead hint: every particle named for the bucket `k` places ahead is filed there.
+#[test]
+fn ahead_names_particles_of_that_bucket() {
+    let n = 2000;
+    let width = 1e-3;
+    let mut rng = Xoshiro256PlusPlus::seed_from_u64(10);
+    let mut c = PaulCalendar::with_capacity(n);
+    c.reset(0.0, width);
+    let mut times = vec![f64::INFINITY; n];
+    for i in 0..n {
+        times[i] = rng.random::<f64>();
+        c.schedule(i as u32, times[i]);
+    }
+    let mut named = 0;
+    for _ in 0..5000 {
+        let (i, t) = c.pop().unwrap();
+        times[i as usize] = t + rng.random::<f64>();
+        c.schedule(i, times[i as usize]);
+        for k in 1..=5 {
+            for &j in c.ahead(k) {
+                let bucket = (times[j as usize] / width) as i64;
+                assert_eq!(bucket, c.position() + k as i64, "particle {j}, {k} ahead");
+                named += 1;
+            }
+        }
+    }
+    assert!(named > 5000, "the hint named only {named} particles");
+}

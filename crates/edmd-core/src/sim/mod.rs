@@ -33,6 +33,7 @@ mod contact;
 mod cooling;
 mod event;
 mod lists;
+mod look_ahead;
 mod params;
 mod query;
 mod run;
@@ -178,6 +179,8 @@ pub struct Simulation<const D: usize, B: Boundary, R: CollisionRule, C: Calendar
     /// Whether the state is far larger than a cache, so that each event ends by asking for what
     /// the next one will read (`Self::prefetch_next_partner`).
     look_ahead: bool,
+    /// The calendar's bucket at the last stage of the cell-mode look-ahead (`sim/look_ahead.rs`).
+    look_at: i64,
     _boundary: PhantomData<B>,
 }
 
@@ -322,6 +325,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             next_maintenance: 0,
             last_maintenance: (0, 0.0),
             look_ahead: false,
+            look_at: 0,
             _boundary: PhantomData,
         };
         for i in 0..n {
@@ -364,6 +368,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             next_maintenance: self.next_maintenance,
             last_maintenance: self.last_maintenance,
             look_ahead: self.look_ahead,
+            look_at: self.look_at,
             _boundary: PhantomData,
         }
     }

@@ -44,6 +44,20 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         &self.counters
     }
 
+    /// Whether the large-system look-ahead is on: prefetch hints for what the coming events will
+    /// read (the next partner's list in neighbour-list mode, the staged look-ahead over the
+    /// calendar's next buckets in cell mode). It is switched on when the engine's arrays exceed
+    /// 64 MiB, where those lines are not in cache.
+    pub fn look_ahead(&self) -> bool {
+        self.look_ahead
+    }
+
+    /// Forces the large-system look-ahead on or off (benchmarks, tests). Hints only: events and
+    /// trajectories are the same either way.
+    pub fn set_look_ahead(&mut self, on: bool) {
+        self.look_ahead = on;
+    }
+
     /// Resets the event counters (not the clock), e.g. after equilibration.
     pub fn reset_counters(&mut self) {
         let events = self.counters.events;

@@ -163,3 +163,37 @@ fn paul_and_binary_heap_calendars_agree_with_neighbour_lists() {
     same_sequences_with::<3, Walls>(0.3, 100_000, 0.3);
     same_sequences_with::<2, Walls>(0.5, 100_000, 0.5);
 }
+
+/// The large-system look-ahead (prefetch hints several events deep) must not change a single
+/// event: forced on in systems small enough to check, against the same system without it. Walls
+/// and small boxes put many cells on the box's faces, where the look-ahead skips its hints.
+fn look_ahead_changes_nothing<const D: usize, B: Boundary>(n: usize, phi: f64, skin: f64) {
+    let mut p = InitParams::<D>::with_packing(n, phi).unwrap();
+    p.seed = 17;
+    with_skin(&mut p, phi, skin);
+    let mut a = p.build::<B, _>(Elastic).unwrap();
+    let mut b = p.build::<B, _>(Elastic).unwrap();
+    assert!(
+        !a.look_ahead(),
+        "a system this small starts without the look-ahead"
+    );
+    a.set_look_ahead(true);
+    for k in 0..100_000 {
+        let (ea, eb) = (a.step(), b.step());
+        assert_eq!(ea, eb, "event {k}");
+        assert_eq!(a.time().to_bits(), b.time().to_bits(), "event {k}");
+    }
+    assert_eq!(a.counters(), b.counters());
+    for (pa, pb) in a.positions().iter().zip(b.positions().iter()) {
+        assert_eq!(pa, pb);
+    }
+}
+
+#[test]
+fn look_ahead_changes_no_event() {
+    look_ahead_changes_nothing::<2, Periodic>(4000, 0.3, 0.0);
+    look_ahead_changes_nothing::<2, Periodic>(300, 0.05, 0.0);
+    look_ahead_changes_nothing::<2, Walls>(2000, 0.5, 0.0);
+    look_ahead_changes_nothing::<3, Periodic>(2000, 0.3, 0.0);
+    look_ahead_changes_nothing::<3, Periodic>(2000, 0.45, 0.4);
+}
