@@ -66,6 +66,11 @@ pub trait Calendar: std::fmt::Debug + Send {
     fn position(&self) -> i64 {
         0
     }
+    /// Lets filings into later buckets wait until their bucket line has arrived (large systems,
+    /// where it is not in cache): a hint that changes no pop. Off by default.
+    fn defer_filings(&mut self, on: bool) {
+        let _ = on;
+    }
     /// Empties the calendar and sets its time origin and bucket width (a hint; `width > 0`).
     fn reset(&mut self, origin: f64, width: f64);
 }

@@ -58,10 +58,12 @@ pub struct PaulCalendar {
     overflow: Vec<u32>,
     heap: Vec<(f64, u32)>,
     /// Filings into buckets after the current one, as `(particle, bucket)`, whose bucket line was
-    /// asked for but not yet written: linked when the calendar next moves to a new bucket (no
-    /// bucket is read before that), by which time the line has arrived instead of stalling the
-    /// event that filed them. The order of pops does not change.
+    /// asked for but not yet written: linked just before their bucket is loaded (no bucket is read
+    /// before that), or all at once when [`DEFER`] are waiting, by which time the line has arrived
+    /// instead of stalling the event that filed them. The order of pops does not change.
     deferred: Vec<(u32, u32)>,
+    /// Whether bucket filings are deferred ([`Calendar::defer_filings`]).
+    defer: bool,
     origin: f64,
     width: f64,
     inv_width: f64,
@@ -144,6 +146,11 @@ impl PaulCalendar {
             self.heap_push(t, i);
         } else if (k as u64) < self.nb as u64 {
             let b = ((self.cur + k) as u64 as usize) & (self.nb - 1);
+            if !self.defer {
+                self.link(i, b);
+                self.in_buckets += 1;
+                return;
+            }
             crate::prefetch::prefetch(&self.buckets[b]);
             if self.deferred.len() == DEFER {
                 self.link_deferred();
@@ -164,6 +171,20 @@ impl PaulCalendar {
             self.link(i, b as usize);
         }
         self.deferred.clear();
+    }
+
+    /// Links the deferred filings of bucket `b` (about to be loaded) into it.
+    fn link_deferred_into(&mut self, b: usize) {
+        let mut k = 0;
+        while k < self.deferred.len() {
+            let (i, bk) = self.deferred[k];
+            if bk as usize == b {
+                self.deferred_remove(k);
+                self.link(i, b);
+            } else {
+                k += 1;
+            }
+        }
     }
 
     /// Removes the deferred filing at `pos`; the last one takes its place.
@@ -286,7 +307,6 @@ impl PaulCalendar {
     /// Advances to the next non-empty bucket and loads it into the heap.
     fn advance(&mut self) {
         debug_assert!(self.heap.is_empty() && self.len > 0);
-        self.link_deferred();
         if self.in_buckets == 0 {
             // Every bucket is empty: jump to the cycle that holds the earliest overflow entry.
             let tmin = self
@@ -309,6 +329,9 @@ impl PaulCalendar {
             let b = (self.cur as u64 as usize) & (self.nb - 1);
             if b == 0 {
                 self.redistribute();
+            }
+            if !self.deferred.is_empty() {
+                self.link_deferred_into(b);
             }
             let bucket = std::mem::replace(&mut self.buckets[b], EMPTY_BUCKET);
             for &i in &bucket.ids[..bucket.len as usize] {
@@ -359,6 +382,7 @@ impl Calendar for PaulCalendar {
             overflow: Vec::new(),
             heap: Vec::with_capacity(64),
             deferred: Vec::with_capacity(DEFER),
+            defer: false,
             origin: 0.0,
             width: 1.0,
             inv_width: 1.0,
@@ -479,6 +503,13 @@ impl Calendar for PaulCalendar {
     #[inline(always)]
     fn position(&self) -> i64 {
         self.cur
+    }
+
+    fn defer_filings(&mut self, on: bool) {
+        if !on {
+            self.link_deferred();
+        }
+        self.defer = on;
     }
 
     fn reset(&mut self, origin: f64, width: f64) {

@@ -7,8 +7,15 @@ use rand_xoshiro::Xoshiro256PlusPlus;
 /// Random schedule/remove/pop traffic, the way an event loop produces it: both calendars must
 /// return identical sequences.
 fn compare(n: usize, width: f64, steps: usize, seed: u64) {
+    compare_with(n, width, steps, seed, false);
+    compare_with(n, width, steps, seed, true);
+}
+
+/// [`compare`] with the Paul calendar's filings deferred or not.
+fn compare_with(n: usize, width: f64, steps: usize, seed: u64, defer: bool) {
     let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
     let mut a = PaulCalendar::with_capacity(n);
+    a.defer_filings(defer);
     let mut b = HeapCalendar::with_capacity(n);
     a.reset(0.0, width);
     b.reset(0.0, width);
@@ -93,6 +100,7 @@ fn deferred_filings_overflow_and_removal_match_the_heap() {
     let mut rng = Xoshiro256PlusPlus::seed_from_u64(9);
     let mut a = PaulCalendar::with_capacity(n);
     let mut b = HeapCalendar::with_capacity(n);
+    a.defer_filings(true);
     a.reset(0.0, 0.01);
     b.reset(0.0, 0.01);
     let mut now = 0.0;
@@ -127,6 +135,7 @@ fn ahead_names_particles_of_that_bucket() {
     let width = 1e-3;
     let mut rng = Xoshiro256PlusPlus::seed_from_u64(10);
     let mut c = PaulCalendar::with_capacity(n);
+    c.defer_filings(true);
     c.reset(0.0, width);
     let mut times = vec![f64::INFINITY; n];
     for i in 0..n {

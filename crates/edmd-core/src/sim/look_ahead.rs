@@ -6,16 +6,15 @@
 //! those cells (their slots are what the heads hold). A prefetch one event ahead starts the first
 //! level only; the second needs the first to have arrived, and asking for it early costs a wait
 //! instead of hiding one. The calendar, however, knows which particles its next few buckets hold.
-//! So each time it moves on to a new bucket, every bucket up to [`RECORDS`] places ahead is taken one
-//! level further, reading only lines an earlier move asked for:
+//! So each time it moves on to a new bucket, each of the buckets 2 to [`RECORDS`] + 1 places ahead
+//! is taken one level further, reading only lines an earlier move asked for:
 //!
 //! | bucket ahead | asked for |
 //! |---|---|
 //! | 5 | the bucket's own line |
-//! | 4 | each entry's particle record, bookkeeping, calendar entry and backward cell link |
-//! | 3 | the cell heads around the cell it will search from; a collision partner's record, bookkeeping and entry |
-//! | 2 | the first member of each of those cells; the partner's cell heads and calendar bucket |
-//! | 1 | the first member of each of the partner's cells |
+//! | 4 | each entry's particle record, bookkeeping and calendar entry |
+//! | 3 | collision (or stale candidate): the heads of the 3^D cells it will search, the partner's record, bookkeeping and entry; crossing: the heads of the cell it enters and of the newly adjacent cells, its own and its successor's backward cell links |
+//! | 2 | collision: the first member of each of those cells, the partner's cell heads and calendar bucket; crossing: the first members of the newly adjacent cells, the backward link of the new cell's first member, the record of its predecessor in the old cell |
 //!
 //! Entries that a collision reschedules before their bucket comes are simply asked for in vain; the
 //! few events filed into the next buckets meanwhile get only the one-event look-ahead of the step.
@@ -31,7 +30,6 @@ use crate::{Boundary, CollisionRule};
 const RECORDS: usize = 4;
 const HEADS: usize = 3;
 const MEMBERS: usize = 2;
-const PARTNER_MEMBERS: usize = 1;
 
 /// What particle `i`'s pending event will read beyond its own records.
 #[derive(Clone, Copy)]
@@ -47,7 +45,7 @@ enum Reads {
 }
 
 impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B, R, C> {
-    /// One stage of the look-ahead for each of the next [`RECORDS`] + 1 buckets (module docs); called
+    /// One stage of the look-ahead for each of the buckets 2 to [`RECORDS`] + 1 places ahead (module docs); called
     /// once per bucket the calendar moves to.
     #[inline(never)]
     pub(super) fn look_ahead_cells(&self) {
@@ -107,15 +105,6 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                     }
                 }
                 Reads::Nothing => {}
-            }
-        }
-        for &i in cal.ahead(PARTNER_MEMBERS) {
-            if let Reads::Search { partner, .. } = self.reads(i as usize) {
-                if partner != NONE {
-                    if let Some(c) = self.interior_cell(&self.meta[partner as usize].cell) {
-                        self.prefetch_members(c, &self.grid.full);
-                    }
-                }
             }
         }
     }

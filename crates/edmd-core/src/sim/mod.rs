@@ -339,7 +339,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         }
         sim.build_lists();
         sim.restart_events();
-        sim.look_ahead = sim.heap_bytes() > LOOK_AHEAD_BYTES;
+        sim.set_look_ahead(sim.heap_bytes() > LOOK_AHEAD_BYTES);
         Ok(sim)
     }
 
