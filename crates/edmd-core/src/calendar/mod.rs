@@ -66,8 +66,8 @@ pub trait Calendar: std::fmt::Debug + Send {
     fn position(&self) -> i64 {
         0
     }
-    /// Lets filings into later buckets wait until their bucket line has arrived (large systems,
-    /// where it is not in cache): a hint that changes no pop. Off by default.
+    /// Lets filings into later buckets wait until their bucket line has arrived: a hint that
+    /// changes no pop (the Paul calendar defers by default; tests compare both).
     fn defer_filings(&mut self, on: bool) {
         let _ = on;
     }

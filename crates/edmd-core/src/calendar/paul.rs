@@ -57,11 +57,15 @@ pub struct PaulCalendar {
     /// Entries beyond the cycle, unordered (removal swaps the last one into the hole).
     overflow: Vec<u32>,
     heap: Vec<(f64, u32)>,
-    /// Filings into buckets after the current one, as `(particle, bucket)`, whose bucket line was
-    /// asked for but not yet written: linked just before their bucket is loaded (no bucket is read
-    /// before that), or all at once when [`DEFER`] are waiting, by which time the line has arrived
-    /// instead of stalling the event that filed them. The order of pops does not change.
-    deferred: Vec<(u32, u32)>,
+    /// Filings into buckets after the current one, as `(particle, bucket, loads at filing)`, whose
+    /// bucket line was asked for but not yet written: linked at the second bucket load after their
+    /// filing, or just before their own bucket is loaded if that comes first (no bucket is read
+    /// before), or all at once when [`DEFER`] are waiting. By then the line has arrived instead
+    /// of stalling the event that filed them. The order of pops does not change.
+    deferred: Vec<(u32, u32, u32)>,
+    /// Bucket loads so far (wrapping): a deferred filing records it, and is linked at the second
+    /// load after its own (its line has had a whole bucket's events to arrive) or when due.
+    loads: u32,
     /// Whether bucket filings are deferred ([`Calendar::defer_filings`]).
     defer: bool,
     origin: f64,
@@ -156,7 +160,7 @@ impl PaulCalendar {
                 self.link_deferred();
             }
             self.slots[i as usize].loc = DEFERRED | self.deferred.len() as u32;
-            self.deferred.push((i, b as u32));
+            self.deferred.push((i, b as u32, self.loads));
             self.in_buckets += 1;
         } else {
             self.slots[i as usize].loc = IN_OVERFLOW | self.overflow.len() as u32;
@@ -167,20 +171,21 @@ impl PaulCalendar {
     /// Links every deferred filing into its bucket.
     fn link_deferred(&mut self) {
         for k in 0..self.deferred.len() {
-            let (i, b) = self.deferred[k];
+            let (i, b, _) = self.deferred[k];
             self.link(i, b as usize);
         }
         self.deferred.clear();
     }
 
-    /// Links the deferred filings of bucket `b` (about to be loaded) into it.
-    fn link_deferred_into(&mut self, b: usize) {
+    /// Links the deferred filings of bucket `b` (about to be loaded) and those made before the
+    /// last load (whose lines have arrived by now) into their buckets.
+    fn link_deferred_due(&mut self, b: usize) {
         let mut k = 0;
         while k < self.deferred.len() {
-            let (i, bk) = self.deferred[k];
-            if bk as usize == b {
+            let (i, bk, filed) = self.deferred[k];
+            if bk as usize == b || filed != self.loads {
                 self.deferred_remove(k);
-                self.link(i, b);
+                self.link(i, bk as usize);
             } else {
                 k += 1;
             }
@@ -190,7 +195,7 @@ impl PaulCalendar {
     /// Removes the deferred filing at `pos`; the last one takes its place.
     fn deferred_remove(&mut self, pos: usize) {
         self.deferred.swap_remove(pos);
-        if let Some(&(moved, _)) = self.deferred.get(pos) {
+        if let Some(&(moved, _, _)) = self.deferred.get(pos) {
             self.slots[moved as usize].loc = DEFERRED | pos as u32;
         }
     }
@@ -331,7 +336,7 @@ impl PaulCalendar {
                 self.redistribute();
             }
             if !self.deferred.is_empty() {
-                self.link_deferred_into(b);
+                self.link_deferred_due(b);
             }
             let bucket = std::mem::replace(&mut self.buckets[b], EMPTY_BUCKET);
             for &i in &bucket.ids[..bucket.len as usize] {
@@ -346,6 +351,7 @@ impl PaulCalendar {
                 i = next;
             }
             if !self.heap.is_empty() {
+                self.loads = self.loads.wrapping_add(1);
                 self.prefetch_ahead();
                 return;
             }
@@ -382,7 +388,8 @@ impl Calendar for PaulCalendar {
             overflow: Vec::new(),
             heap: Vec::with_capacity(64),
             deferred: Vec::with_capacity(DEFER),
-            defer: false,
+            loads: 0,
+            defer: true,
             origin: 0.0,
             width: 1.0,
             inv_width: 1.0,

@@ -46,9 +46,8 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
 
     /// Whether the large-system look-ahead is on: prefetch hints for what the coming events will
     /// read (the next partner's list in neighbour-list mode, the staged look-ahead over the
-    /// calendar's next buckets in cell mode) and calendar filings deferred until their bucket's
-    /// line has arrived ([`Calendar::defer_filings`]). It is switched on when the engine's arrays
-    /// exceed 64 MiB, where those lines are not in cache.
+    /// calendar's next buckets in cell mode). It is switched on when the engine's arrays exceed
+    /// 64 MiB, where those lines are not in cache.
     pub fn look_ahead(&self) -> bool {
         self.look_ahead
     }
@@ -57,7 +56,6 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     /// trajectories are the same either way.
     pub fn set_look_ahead(&mut self, on: bool) {
         self.look_ahead = on;
-        self.calendar.defer_filings(on);
     }
 
     /// Resets the event counters (not the clock), e.g. after equilibration.
