@@ -2,6 +2,8 @@
 
 use super::{earlier, Calendar};
 
+mod deferred;
+
 const NONE: u32 = u32::MAX;
 const IN_HEAP: u32 = 1 << 31;
 const IN_OVERFLOW: u32 = 1 << 30;
@@ -138,65 +140,6 @@ impl PaulCalendar {
             bucket.spill = next;
         } else {
             self.slots[prev as usize].next = next;
-        }
-    }
-
-    /// Files particle `i` at time `t`; a bucket filing is deferred (see [`Self::deferred`]).
-    #[inline]
-    fn insert(&mut self, i: u32, t: f64) {
-        self.slots[i as usize].time = t;
-        let k = self.bucket_of(t) - self.cur;
-        if k <= 0 {
-            self.heap_push(t, i);
-        } else if (k as u64) < self.nb as u64 {
-            let b = ((self.cur + k) as u64 as usize) & (self.nb - 1);
-            if !self.defer {
-                self.link(i, b);
-                self.in_buckets += 1;
-                return;
-            }
-            crate::prefetch::prefetch(&self.buckets[b]);
-            if self.deferred.len() == DEFER {
-                self.link_deferred();
-            }
-            self.slots[i as usize].loc = DEFERRED | self.deferred.len() as u32;
-            self.deferred.push((i, b as u32, self.loads));
-            self.in_buckets += 1;
-        } else {
-            self.slots[i as usize].loc = IN_OVERFLOW | self.overflow.len() as u32;
-            self.overflow.push(i);
-        }
-    }
-
-    /// Links every deferred filing into its bucket.
-    fn link_deferred(&mut self) {
-        for k in 0..self.deferred.len() {
-            let (i, b, _) = self.deferred[k];
-            self.link(i, b as usize);
-        }
-        self.deferred.clear();
-    }
-
-    /// Links the deferred filings of bucket `b` (about to be loaded) and those made before the
-    /// last load (whose lines have arrived by now) into their buckets.
-    fn link_deferred_due(&mut self, b: usize) {
-        let mut k = 0;
-        while k < self.deferred.len() {
-            let (i, bk, filed) = self.deferred[k];
-            if bk as usize == b || filed != self.loads {
-                self.deferred_remove(k);
-                self.link(i, bk as usize);
-            } else {
-                k += 1;
-            }
-        }
-    }
-
-    /// Removes the deferred filing at `pos`; the last one takes its place.
-    fn deferred_remove(&mut self, pos: usize) {
-        self.deferred.swap_remove(pos);
-        if let Some(&(moved, _, _)) = self.deferred.get(pos) {
-            self.slots[moved as usize].loc = DEFERRED | pos as u32;
         }
     }
 
