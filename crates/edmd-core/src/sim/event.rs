@@ -154,7 +154,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                 Event::Stale
             }
         } else {
-            Event::Aux(e.aux)
+            Event::Aux(self.meta[i].aux)
         }
     }
 
@@ -222,8 +222,8 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             aux_t,
             partner,
             partner_count,
-            aux,
         };
+        self.meta[i].aux = aux;
         coll_t.min(aux_t)
     }
 }

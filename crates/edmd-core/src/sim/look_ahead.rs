@@ -122,7 +122,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                 None => Reads::Nothing,
             };
         }
-        match m.ev.aux {
+        match m.aux {
             Aux::Crossing { axis, up } => {
                 let mut c = m.cell;
                 let a = axis as usize;

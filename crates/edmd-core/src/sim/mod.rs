@@ -103,8 +103,6 @@ pub(crate) struct EventSlot {
     pub aux_t: f64,
     pub partner: u32,
     pub partner_count: u32,
-    /// The event at `aux_t`.
-    pub aux: Aux,
 }
 
 impl EventSlot {
@@ -113,7 +111,6 @@ impl EventSlot {
         aux_t: f64::INFINITY,
         partner: NONE,
         partner_count: 0,
-        aux: Aux::Crossing { axis: 0, up: false },
     };
 }
 
@@ -125,7 +122,13 @@ pub(crate) struct Meta<const D: usize> {
     /// Original index of the particle (slots are renumbered in cell order for locality).
     pub id: u32,
     pub cell: [u32; D],
+    /// The event at `ev.aux_t` (here rather than in `ev`, so that it shares the padding after
+    /// `cell` and the record is 48 bytes in 2D instead of 56).
+    pub aux: Aux,
 }
+
+// A 2D record in 48 bytes: half its records within one cache line, instead of a quarter at 56.
+const _: () = assert!(std::mem::size_of::<Meta<2>>() == 48);
 
 /// Running counters.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -290,6 +293,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                 mass: p.mass,
                 id: i as u32,
                 cell: [0; D],
+                aux: Aux::Crossing { axis: 0, up: false },
             })
             .collect();
         let mut sim = Simulation {
