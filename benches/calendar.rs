@@ -3,11 +3,16 @@
 //! free time ahead).
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
-use edmd::{Calendar, HeapCalendar, PaulCalendar};
+use edmd::{Calendar, HeapCalendar, PaulCalendar, Standalone};
 use rand::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 
-fn churn<C: Calendar>(cal: &mut C, rng: &mut Xoshiro256PlusPlus, n: usize, steps: usize) -> f64 {
+fn churn<C: Calendar>(
+    cal: &mut Standalone<C>,
+    rng: &mut Xoshiro256PlusPlus,
+    n: usize,
+    steps: usize,
+) -> f64 {
     let mut now = 0.0;
     for _ in 0..steps {
         let (i, t) = cal.pop().expect("never empty");
@@ -21,9 +26,9 @@ fn churn<C: Calendar>(cal: &mut C, rng: &mut Xoshiro256PlusPlus, n: usize, steps
     now
 }
 
-fn setup<C: Calendar>(n: usize, seed: u64) -> (C, Xoshiro256PlusPlus) {
+fn setup<C: Calendar>(n: usize, seed: u64) -> (Standalone<C>, Xoshiro256PlusPlus) {
     let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
-    let mut cal = C::with_capacity(n);
+    let mut cal = Standalone::<C>::with_capacity(n);
     cal.reset(0.0, 2.0 / n as f64);
     for i in 0..n as u32 {
         cal.schedule(i, rng.random::<f64>());

@@ -49,7 +49,7 @@ pub type Vector<const D: usize> = nalgebra::SVector<f64, D>;
 
 pub use alloc::LineAligned;
 pub use boundary::{Axes, Boundary, Channel, Column, Container, GravityAxes, Periodic, Walls};
-pub use calendar::{Calendar, HeapCalendar, PaulCalendar};
+pub use calendar::{Calendar, Entry, HasEntry, HeapCalendar, PaulCalendar, Standalone};
 pub use cells::CellGrid;
 pub use collide::{
     CollisionRule, ConstantRestitution, Elastic, LastCollision, RandomRotation, Rough, Spin,

@@ -3,7 +3,7 @@
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 
-use super::Calendar;
+use super::{Calendar, HasEntry};
 
 /// `f64` with a total order, for the oracle heap.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -52,8 +52,8 @@ impl Calendar for HeapCalendar {
         }
     }
 
-    fn schedule(&mut self, i: u32, t: f64) {
-        self.remove(i);
+    fn schedule<E: HasEntry>(&mut self, e: &mut [E], i: u32, t: f64) {
+        self.remove(e, i);
         if t < f64::INFINITY {
             let v = &mut self.version[i as usize];
             *v = v.wrapping_add(1);
@@ -69,14 +69,14 @@ impl Calendar for HeapCalendar {
         }
     }
 
-    fn remove(&mut self, i: u32) {
+    fn remove<E: HasEntry>(&mut self, _: &mut [E], i: u32) {
         if self.active[i as usize] {
             self.active[i as usize] = false;
             self.len -= 1;
         }
     }
 
-    fn pop(&mut self) -> Option<(u32, f64)> {
+    fn pop<E: HasEntry>(&mut self, _: &mut [E]) -> Option<(u32, f64)> {
         self.discard_stale();
         let k = self.heap.pop()?;
         self.active[k.1 as usize] = false;
@@ -84,7 +84,7 @@ impl Calendar for HeapCalendar {
         Some((k.1, k.0))
     }
 
-    fn peek_time(&mut self) -> Option<f64> {
+    fn peek_time<E: HasEntry>(&mut self, _: &mut [E]) -> Option<f64> {
         self.discard_stale();
         self.heap.peek().map(|k| k.0)
     }
@@ -93,7 +93,7 @@ impl Calendar for HeapCalendar {
         self.len
     }
 
-    fn reset(&mut self, _origin: f64, _width: f64) {
+    fn reset<E: HasEntry>(&mut self, _: &mut [E], _origin: f64, _width: f64) {
         self.heap.clear();
         self.active.fill(false);
         self.len = 0;

@@ -13,20 +13,72 @@
 //!
 //! Both order events by `(time, particle index)`, so the two produce identical sequences.
 
-/// A priority queue holding at most one event time per particle.
+/// One particle's place in a calendar: its filed time and where the calendar keeps it.
+///
+/// The calendar does not own these: each lives in the caller's per-particle record (the engine's
+/// bookkeeping, [`HasEntry`]), so that filing or popping a particle touches the line its event has
+/// read anyway, not a line of a separate array. Outside an engine, [`Standalone`] keeps them in a
+/// vector of their own.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Entry {
+    time: f64,
+    /// The next entry of its bucket's spill list.
+    next: u32,
+    /// `NONE`, `IN_HEAP | heap position`, `IN_OVERFLOW | overflow position`, `DEFERRED |
+    /// position among the deferred filings`, or a bucket index (Paul calendar).
+    loc: u32,
+}
+
+impl Entry {
+    /// Not filed.
+    pub const EMPTY: Entry = Entry {
+        time: f64::INFINITY,
+        next: u32::MAX,
+        loc: u32::MAX,
+    };
+}
+
+impl Default for Entry {
+    fn default() -> Self {
+        Entry::EMPTY
+    }
+}
+
+/// A per-particle record that carries its calendar [`Entry`].
+pub trait HasEntry {
+    /// The entry.
+    fn entry(&self) -> &Entry;
+    /// The entry, to be changed by the calendar.
+    fn entry_mut(&mut self) -> &mut Entry;
+}
+
+impl HasEntry for Entry {
+    #[inline(always)]
+    fn entry(&self) -> &Entry {
+        self
+    }
+    #[inline(always)]
+    fn entry_mut(&mut self) -> &mut Entry {
+        self
+    }
+}
+
+/// A priority queue holding at most one event time per particle. The particles' entries are the
+/// caller's (`e`, indexed by particle; see [`Entry`]); every call that files, removes or pops is
+/// handed the same slice.
 pub trait Calendar: std::fmt::Debug + Send {
     /// An empty calendar for particles `0..n`.
     fn with_capacity(n: usize) -> Self
     where
         Self: Sized;
     /// Sets particle `i`'s event to time `t`, replacing any earlier entry. `t = ∞` removes it.
-    fn schedule(&mut self, i: u32, t: f64);
+    fn schedule<E: HasEntry>(&mut self, e: &mut [E], i: u32, t: f64);
     /// Removes particle `i`'s entry, if any.
-    fn remove(&mut self, i: u32);
+    fn remove<E: HasEntry>(&mut self, e: &mut [E], i: u32);
     /// Removes and returns the earliest entry `(particle, time)`; ties go to the lower index.
-    fn pop(&mut self) -> Option<(u32, f64)>;
+    fn pop<E: HasEntry>(&mut self, e: &mut [E]) -> Option<(u32, f64)>;
     /// The time of the earliest entry without removing it.
-    fn peek_time(&mut self) -> Option<f64>;
+    fn peek_time<E: HasEntry>(&mut self, e: &mut [E]) -> Option<f64>;
     /// Number of scheduled particles.
     fn len(&self) -> usize;
     /// True when nothing is scheduled.
@@ -37,16 +89,11 @@ pub trait Calendar: std::fmt::Debug + Send {
     fn next_hint(&self) -> Option<u32> {
         None
     }
-    /// Asks for the cache line of particle `i`'s entry, which its next filing will touch (a hint).
-    #[inline(always)]
-    fn prefetch(&self, i: u32) {
-        let _ = i;
-    }
     /// Asks for the lines that filing an entry at time `t`, and removing particle `i`'s present
     /// one, will touch (a hint: called where the time is known some work before the filing).
     #[inline(always)]
-    fn prefetch_filing(&self, i: u32, t: f64) {
-        let _ = (i, t);
+    fn prefetch_filing<E: HasEntry>(&self, e: &[E], i: u32, t: f64) {
+        let _ = (e, i, t);
     }
     /// The particles filed in the bucket `k` places after the current one, as far as it holds them
     /// in place (a hint for a look-ahead several events deep; empty where unknown). Reads that
@@ -68,11 +115,70 @@ pub trait Calendar: std::fmt::Debug + Send {
     }
     /// Lets filings into later buckets wait until their bucket line has arrived: a hint that
     /// changes no pop (the Paul calendar defers by default; tests compare both).
-    fn defer_filings(&mut self, on: bool) {
-        let _ = on;
+    fn defer_filings<E: HasEntry>(&mut self, e: &mut [E], on: bool) {
+        let _ = (e, on);
     }
-    /// Empties the calendar and sets its time origin and bucket width (a hint; `width > 0`).
-    fn reset(&mut self, origin: f64, width: f64);
+    /// Empties the calendar (every entry of `e` included) and sets its time origin and bucket
+    /// width (a hint; `width > 0`).
+    fn reset<E: HasEntry>(&mut self, e: &mut [E], origin: f64, width: f64);
+}
+
+/// A calendar with entries of its own, for use outside an engine (tests, benchmarks): the
+/// [`Calendar`] calls without the entries argument.
+#[derive(Debug, Clone)]
+pub struct Standalone<C> {
+    calendar: C,
+    entries: Vec<Entry>,
+}
+
+impl<C: Calendar> Standalone<C> {
+    /// An empty calendar for particles `0..n`.
+    pub fn with_capacity(n: usize) -> Self {
+        Standalone {
+            calendar: C::with_capacity(n),
+            entries: vec![Entry::EMPTY; n],
+        }
+    }
+    /// [`Calendar::schedule`].
+    pub fn schedule(&mut self, i: u32, t: f64) {
+        self.calendar.schedule(&mut self.entries, i, t);
+    }
+    /// [`Calendar::remove`].
+    pub fn remove(&mut self, i: u32) {
+        self.calendar.remove(&mut self.entries, i);
+    }
+    /// [`Calendar::pop`].
+    pub fn pop(&mut self) -> Option<(u32, f64)> {
+        self.calendar.pop(&mut self.entries)
+    }
+    /// [`Calendar::peek_time`].
+    pub fn peek_time(&mut self) -> Option<f64> {
+        self.calendar.peek_time(&mut self.entries)
+    }
+    /// [`Calendar::len`].
+    pub fn len(&self) -> usize {
+        self.calendar.len()
+    }
+    /// [`Calendar::is_empty`].
+    pub fn is_empty(&self) -> bool {
+        self.calendar.is_empty()
+    }
+    /// [`Calendar::ahead`].
+    pub fn ahead(&self, k: usize) -> &[u32] {
+        self.calendar.ahead(k)
+    }
+    /// [`Calendar::position`].
+    pub fn position(&self) -> i64 {
+        self.calendar.position()
+    }
+    /// [`Calendar::defer_filings`].
+    pub fn defer_filings(&mut self, on: bool) {
+        self.calendar.defer_filings(&mut self.entries, on);
+    }
+    /// [`Calendar::reset`].
+    pub fn reset(&mut self, origin: f64, width: f64) {
+        self.calendar.reset(&mut self.entries, origin, width);
+    }
 }
 
 #[inline(always)]

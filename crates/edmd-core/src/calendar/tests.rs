@@ -14,9 +14,9 @@ fn compare(n: usize, width: f64, steps: usize, seed: u64) {
 /// [`compare`] with the Paul calendar's filings deferred or not.
 fn compare_with(n: usize, width: f64, steps: usize, seed: u64, defer: bool) {
     let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
-    let mut a = PaulCalendar::with_capacity(n);
+    let mut a = Standalone::<PaulCalendar>::with_capacity(n);
     a.defer_filings(defer);
-    let mut b = HeapCalendar::with_capacity(n);
+    let mut b = Standalone::<HeapCalendar>::with_capacity(n);
     a.reset(0.0, width);
     b.reset(0.0, width);
     for i in 0..n as u32 {
@@ -73,7 +73,7 @@ fn paul_matches_binary_heap() {
 
 #[test]
 fn ties_break_by_index() {
-    let mut c = PaulCalendar::with_capacity(4);
+    let mut c = Standalone::<PaulCalendar>::with_capacity(4);
     c.reset(0.0, 1.0);
     for i in [3, 1, 2, 0] {
         c.schedule(i, 5.0);
@@ -84,7 +84,7 @@ fn ties_break_by_index() {
 
 #[test]
 fn infinite_time_means_unscheduled() {
-    let mut c = PaulCalendar::with_capacity(2);
+    let mut c = Standalone::<PaulCalendar>::with_capacity(2);
     c.reset(0.0, 1.0);
     c.schedule(0, 1.0);
     c.schedule(0, f64::INFINITY);
@@ -98,8 +98,8 @@ fn infinite_time_means_unscheduled() {
 fn deferred_filings_overflow_and_removal_match_the_heap() {
     let n = 500;
     let mut rng = Xoshiro256PlusPlus::seed_from_u64(9);
-    let mut a = PaulCalendar::with_capacity(n);
-    let mut b = HeapCalendar::with_capacity(n);
+    let mut a = Standalone::<PaulCalendar>::with_capacity(n);
+    let mut b = Standalone::<HeapCalendar>::with_capacity(n);
     a.defer_filings(true);
     a.reset(0.0, 0.01);
     b.reset(0.0, 0.01);
@@ -134,7 +134,7 @@ fn ahead_names_particles_of_that_bucket() {
     let n = 2000;
     let width = 1e-3;
     let mut rng = Xoshiro256PlusPlus::seed_from_u64(10);
-    let mut c = PaulCalendar::with_capacity(n);
+    let mut c = Standalone::<PaulCalendar>::with_capacity(n);
     c.defer_filings(true);
     c.reset(0.0, width);
     let mut times = vec![f64::INFINITY; n];

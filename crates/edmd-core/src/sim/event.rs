@@ -44,13 +44,10 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     /// [`Self::step`] for a neighbour strategy fixed at compile time.
     #[inline]
     pub(super) fn step_with<S: Search>(&mut self) -> Option<EventKind> {
-        let (i, t) = self.calendar.pop()?;
+        let (i, t) = self.calendar.pop(&mut self.meta)?;
         if let Some(next) = self.calendar.next_hint() {
             crate::prefetch::prefetch(&self.particles[next as usize]);
             crate::prefetch::prefetch(&self.meta[next as usize]);
-            if self.look_ahead {
-                self.calendar.prefetch(next);
-            }
             if S::LISTS {
                 if let Some(nl) = &self.nl {
                     nl.prefetch(next as usize);
@@ -82,14 +79,14 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                 // are asked for as soon as its time is known and arrive during the other's work.
                 let ti = self.predict_event::<S>(i);
                 if self.look_ahead {
-                    self.calendar.prefetch_filing(i as u32, ti);
+                    self.calendar.prefetch_filing(&self.meta, i as u32, ti);
                 }
                 let tj = self.predict_event::<S>(j);
                 if self.look_ahead {
-                    self.calendar.prefetch_filing(j as u32, tj);
+                    self.calendar.prefetch_filing(&self.meta, j as u32, tj);
                 }
-                self.calendar.schedule(i as u32, ti);
-                self.calendar.schedule(j as u32, tj);
+                self.calendar.schedule(&mut self.meta, i as u32, ti);
+                self.calendar.schedule(&mut self.meta, j as u32, tj);
                 self.watch_collapse(i as u32, j as u32);
                 EventKind::Collision(id, self.meta[j].id)
             }
@@ -136,7 +133,6 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             let j = e.partner as usize;
             crate::prefetch::prefetch(&self.particles[j]);
             crate::prefetch::prefetch(&self.meta[j]);
-            self.calendar.prefetch(j as u32);
             nl.prefetch(j);
         }
     }
@@ -162,7 +158,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     #[inline]
     pub(super) fn predict<S: Search>(&mut self, i: usize) {
         let t = self.predict_event::<S>(i);
-        self.calendar.schedule(i as u32, t);
+        self.calendar.schedule(&mut self.meta, i as u32, t);
     }
 
     /// Records the candidate `(coll_t, partner)` of slot `i` and files its next event.
@@ -170,7 +166,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     pub(super) fn store<S: Search>(&mut self, i: usize, coll_t: f64, partner: u32) {
         let aux = self.aux_event::<S>(i);
         let t = self.set_event(i, coll_t, partner, aux);
-        self.calendar.schedule(i as u32, t);
+        self.calendar.schedule(&mut self.meta, i as u32, t);
     }
 
     /// Predicts slot `i`'s next event and records it without filing it; returns its time.

@@ -12,7 +12,7 @@
 //! | bucket ahead | asked for |
 //! |---|---|
 //! | 5 | the bucket's own line |
-//! | 4 | each entry's particle record, bookkeeping and calendar entry |
+//! | 4 | each entry's particle record and bookkeeping (which holds its calendar entry) |
 //! | 3 | collision (or stale candidate): the heads of the 3^D cells it will search, the partner's record, bookkeeping and entry; crossing: the heads of the cell it enters and of the newly adjacent cells, its own and its successor's backward cell links |
 //! | 2 | collision: the first member of each of those cells, the partner's cell heads and calendar bucket; crossing: the first members of the newly adjacent cells, the backward link of the new cell's first member, the record of its predecessor in the old cell |
 //!
@@ -55,7 +55,6 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             let i = i as usize;
             prefetch_record(&self.particles[i]);
             prefetch_record(&self.meta[i]);
-            cal.prefetch(i as u32);
         }
         for &i in cal.ahead(HEADS) {
             let i = i as usize;
@@ -66,7 +65,6 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                         let j = partner as usize;
                         prefetch_record(&self.particles[j]);
                         prefetch_record(&self.meta[j]);
-                        cal.prefetch(partner);
                     }
                 }
                 Reads::Cross { centre, side } => {
@@ -90,7 +88,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                         if let Some(c) = self.interior_cell(&self.meta[partner as usize].cell) {
                             self.prefetch_heads(c, &self.grid.full);
                         }
-                        cal.prefetch_filing(partner, f64::INFINITY);
+                        cal.prefetch_filing(&self.meta, partner, f64::INFINITY);
                     }
                 }
                 Reads::Cross { centre, side } => {

@@ -70,7 +70,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             }
             Stop::Time(t) => loop {
                 let local = self.local_time_of(t);
-                match self.calendar.peek_time() {
+                match self.calendar.peek_time(&mut self.meta) {
                     Some(next) if next <= local => {
                         self.step_with::<S>();
                         if self.collapse().is_some() {
@@ -129,7 +129,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             let done = match stop {
                 Stop::Tau(t) => self.counters.pair_collisions as f64 >= (t * n).ceil(),
                 Stop::Events(_) => self.counters.events >= event_target,
-                Stop::Time(t) => match self.calendar.peek_time() {
+                Stop::Time(t) => match self.calendar.peek_time(&mut self.meta) {
                     Some(next_t) if next_t <= self.local_time_of(t) => false,
                     _ => {
                         self.now = self.local_time_of(t).max(self.now);

@@ -47,10 +47,11 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
 
     /// Empties the calendar, gives it bucket width `width` and files every slot's pending event.
     pub(super) fn reschedule_all(&mut self, width: f64) {
-        self.calendar.reset(self.now, width);
+        self.calendar.reset(&mut self.meta, self.now, width);
         for i in 0..self.particles.len() {
             let e = &self.meta[i].ev;
-            self.calendar.schedule(i as u32, e.coll_t.min(e.aux_t));
+            let t = e.coll_t.min(e.aux_t);
+            self.calendar.schedule(&mut self.meta, i as u32, t);
         }
     }
 

@@ -1,6 +1,6 @@
 //! The bucket calendar of G. Paul (2007).
 
-use super::{earlier, Calendar};
+use super::{earlier, Calendar, Entry, HasEntry};
 
 mod deferred;
 
@@ -11,29 +11,12 @@ const IN_OVERFLOW: u32 = 1 << 30;
 const DEFERRED: u32 = IN_HEAP | IN_OVERFLOW;
 /// Filings held back at most before they are all linked at once.
 const DEFER: usize = 32;
-/// Entries a bucket holds in its own cache-line half; more spill into a list through the slots.
+/// Entries a bucket holds in its own cache-line half; more spill into a list through the entries.
 const INLINE: usize = 6;
-
-/// One particle's place in a [`PaulCalendar`].
-#[derive(Debug, Clone, Copy)]
-struct Slot {
-    time: f64,
-    /// The next entry of its bucket's spill list.
-    next: u32,
-    /// `NONE`, `IN_HEAP | heap position`, `IN_OVERFLOW | overflow position`, `DEFERRED |
-    /// position among the deferred filings`, or a bucket index.
-    loc: u32,
-}
-
-const EMPTY_SLOT: Slot = Slot {
-    time: f64::INFINITY,
-    next: NONE,
-    loc: NONE,
-};
 
 /// One bucket: up to [`INLINE`] particles in place, the rest in a singly linked spill list (rare:
 /// the width aims at a few entries per bucket). Filing or removing an entry then touches the
-/// bucket's line and the particle's own slot, not the slots of unrelated particles that a linked
+/// bucket's line and the particle's own entry, not the entries of unrelated particles that a linked
 /// bucket would thread through.
 #[derive(Debug, Clone, Copy)]
 #[repr(C, align(32))]
@@ -52,8 +35,6 @@ const EMPTY_BUCKET: Bucket = Bucket {
 /// O(1)-amortised calendar of Paul (2007); see the module documentation.
 #[derive(Debug, Clone)]
 pub struct PaulCalendar {
-    /// Per-particle entry: time, spill link and location.
-    slots: Vec<Slot>,
     /// The `nb` buckets of one cycle.
     buckets: Vec<Bucket>,
     /// Entries beyond the cycle, unordered (removal swaps the last one into the hole).
@@ -99,21 +80,22 @@ impl PaulCalendar {
     }
 
     #[inline]
-    fn link(&mut self, i: u32, b: usize) {
+    fn link<E: HasEntry>(&mut self, e: &mut [E], i: u32, b: usize) {
         let bucket = &mut self.buckets[b];
         let l = bucket.len as usize;
+        let entry = e[i as usize].entry_mut();
         if l < INLINE {
             bucket.ids[l] = i;
             bucket.len += 1;
         } else {
-            self.slots[i as usize].next = bucket.spill;
+            entry.next = bucket.spill;
             bucket.spill = i;
         }
-        self.slots[i as usize].loc = b as u32;
+        entry.loc = b as u32;
     }
 
     #[inline]
-    fn unlink(&mut self, i: u32, b: usize) {
+    fn unlink<E: HasEntry>(&mut self, e: &mut [E], i: u32, b: usize) {
         let bucket = &mut self.buckets[b];
         let l = bucket.len as usize;
         if let Some(k) = bucket.ids[..l].iter().position(|&x| x == i) {
@@ -124,7 +106,7 @@ impl PaulCalendar {
                 bucket.len -= 1;
             } else {
                 bucket.ids[l - 1] = s;
-                bucket.spill = self.slots[s as usize].next;
+                bucket.spill = e[s as usize].entry().next;
             }
             return;
         }
@@ -133,72 +115,72 @@ impl PaulCalendar {
         while k != i {
             debug_assert!(k != NONE, "particle {i} not in bucket {b}");
             prev = k;
-            k = self.slots[k as usize].next;
+            k = e[k as usize].entry().next;
         }
-        let next = self.slots[i as usize].next;
+        let next = e[i as usize].entry().next;
         if prev == NONE {
             bucket.spill = next;
         } else {
-            self.slots[prev as usize].next = next;
+            e[prev as usize].entry_mut().next = next;
         }
     }
 
     /// Files particle `i` at time `t` at once (while the calendar redistributes its overflow).
     #[inline]
-    fn insert_now(&mut self, i: u32, t: f64) {
-        self.slots[i as usize].time = t;
+    fn insert_now<E: HasEntry>(&mut self, e: &mut [E], i: u32, t: f64) {
+        e[i as usize].entry_mut().time = t;
         let k = self.bucket_of(t) - self.cur;
         if k <= 0 {
-            self.heap_push(t, i);
+            self.heap_push(e, t, i);
         } else if (k as u64) < self.nb as u64 {
-            self.link(i, ((self.cur + k) as u64 as usize) & (self.nb - 1));
+            self.link(e, i, ((self.cur + k) as u64 as usize) & (self.nb - 1));
             self.in_buckets += 1;
         } else {
-            self.slots[i as usize].loc = IN_OVERFLOW | self.overflow.len() as u32;
+            e[i as usize].entry_mut().loc = IN_OVERFLOW | self.overflow.len() as u32;
             self.overflow.push(i);
         }
     }
 
-    fn overflow_remove(&mut self, pos: usize) {
+    fn overflow_remove<E: HasEntry>(&mut self, e: &mut [E], pos: usize) {
         let last = self
             .overflow
             .pop()
             .expect("overflow position of a filed particle");
         if pos < self.overflow.len() {
             self.overflow[pos] = last;
-            self.slots[last as usize].loc = IN_OVERFLOW | pos as u32;
+            e[last as usize].entry_mut().loc = IN_OVERFLOW | pos as u32;
         }
     }
 
-    fn heap_push(&mut self, t: f64, i: u32) {
+    fn heap_push<E: HasEntry>(&mut self, e: &mut [E], t: f64, i: u32) {
         let pos = self.heap.len();
         self.heap.push((t, i));
-        self.slots[i as usize].loc = IN_HEAP | pos as u32;
-        self.sift_up(pos);
+        e[i as usize].entry_mut().loc = IN_HEAP | pos as u32;
+        self.sift_up(e, pos);
     }
 
     #[inline]
-    fn heap_set(&mut self, pos: usize, e: (f64, u32)) {
-        self.heap[pos] = e;
-        self.slots[e.1 as usize].loc = IN_HEAP | pos as u32;
+    fn heap_set<E: HasEntry>(&mut self, e: &mut [E], pos: usize, h: (f64, u32)) {
+        self.heap[pos] = h;
+        e[h.1 as usize].entry_mut().loc = IN_HEAP | pos as u32;
     }
 
-    fn sift_up(&mut self, mut pos: usize) {
-        let e = self.heap[pos];
+    fn sift_up<E: HasEntry>(&mut self, e: &mut [E], mut pos: usize) {
+        let h = self.heap[pos];
         while pos > 0 {
             let parent = (pos - 1) / 2;
-            let pe = self.heap[parent];
-            if !earlier(e, pe) {
+            let ph = self.heap[parent];
+            if !earlier(h, ph) {
                 break;
             }
-            self.heap_set(pos, pe);
+            self.heap_set(e, pos, ph);
             pos = parent;
         }
-        self.heap_set(pos, e);
+        self.heap_set(e, pos, h);
     }
 
-    fn sift_down(&mut self, mut pos: usize) {
-        let e = self.heap[pos];
+    fn sift_down<E: HasEntry>(&mut self, e: &mut [E], mut pos: usize) {
+        let h = self.heap[pos];
         let len = self.heap.len();
         loop {
             let l = 2 * pos + 1;
@@ -211,41 +193,41 @@ impl PaulCalendar {
             } else {
                 l
             };
-            if !earlier(self.heap[c], e) {
+            if !earlier(self.heap[c], h) {
                 break;
             }
-            self.heap_set(pos, self.heap[c]);
+            self.heap_set(e, pos, self.heap[c]);
             pos = c;
         }
-        self.heap_set(pos, e);
+        self.heap_set(e, pos, h);
     }
 
-    fn heap_remove(&mut self, pos: usize) {
+    fn heap_remove<E: HasEntry>(&mut self, e: &mut [E], pos: usize) {
         let last = self
             .heap
             .pop()
             .expect("heap position of a scheduled particle");
         if pos < self.heap.len() {
-            self.heap_set(pos, last);
-            self.sift_down(pos);
-            self.sift_up(pos);
+            self.heap_set(e, pos, last);
+            self.sift_down(e, pos);
+            self.sift_up(e, pos);
         }
     }
 
     /// Moves overflow entries that fall in the coming cycle into buckets (or the heap); the rest
     /// close up in place.
-    fn redistribute(&mut self) {
+    fn redistribute<E: HasEntry>(&mut self, e: &mut [E]) {
         let mut overflow = std::mem::take(&mut self.overflow);
         let mut kept = 0;
         for k in 0..overflow.len() {
             let i = overflow[k];
-            let t = self.slots[i as usize].time;
+            let t = e[i as usize].entry().time;
             if self.bucket_of(t) - self.cur >= self.nb as i64 {
                 overflow[kept] = i;
-                self.slots[i as usize].loc = IN_OVERFLOW | kept as u32;
+                e[i as usize].entry_mut().loc = IN_OVERFLOW | kept as u32;
                 kept += 1;
             } else {
-                self.insert_now(i, t);
+                self.insert_now(e, i, t);
             }
         }
         overflow.truncate(kept);
@@ -253,20 +235,20 @@ impl PaulCalendar {
     }
 
     /// Advances to the next non-empty bucket and loads it into the heap.
-    fn advance(&mut self) {
+    fn advance<E: HasEntry>(&mut self, e: &mut [E]) {
         debug_assert!(self.heap.is_empty() && self.len > 0);
         if self.in_buckets == 0 {
             // Every bucket is empty: jump to the cycle that holds the earliest overflow entry.
             let tmin = self
                 .overflow
                 .iter()
-                .map(|&i| self.slots[i as usize].time)
+                .map(|&i| e[i as usize].entry().time)
                 .fold(f64::INFINITY, f64::min);
             let nb = self.nb as i64;
             let start = self.bucket_of(tmin).div_euclid(nb) * nb;
             if start > self.cur {
                 self.cur = start;
-                self.redistribute();
+                self.redistribute(e);
                 if !self.heap.is_empty() {
                     return;
                 }
@@ -276,26 +258,28 @@ impl PaulCalendar {
             self.cur += 1;
             let b = (self.cur as u64 as usize) & (self.nb - 1);
             if b == 0 {
-                self.redistribute();
+                self.redistribute(e);
             }
             if !self.deferred.is_empty() {
-                self.link_deferred_due(b);
+                self.link_deferred_due(e, b);
             }
             let bucket = std::mem::replace(&mut self.buckets[b], EMPTY_BUCKET);
             for &i in &bucket.ids[..bucket.len as usize] {
                 self.in_buckets -= 1;
-                self.heap_push(self.slots[i as usize].time, i);
+                let t = e[i as usize].entry().time;
+                self.heap_push(e, t, i);
             }
             let mut i = bucket.spill;
             while i != NONE {
-                let next = self.slots[i as usize].next;
+                let next = e[i as usize].entry().next;
                 self.in_buckets -= 1;
-                self.heap_push(self.slots[i as usize].time, i);
+                let t = e[i as usize].entry().time;
+                self.heap_push(e, t, i);
                 i = next;
             }
             if !self.heap.is_empty() {
                 self.loads = self.loads.wrapping_add(1);
-                self.prefetch_ahead();
+                self.prefetch_ahead(e);
                 return;
             }
         }
@@ -305,12 +289,14 @@ impl PaulCalendar {
     /// previous advance asked for): the advance after this one then finds them in cache, and
     /// [`Calendar::next_hint`] can name the next bucket's first entry while the heap is empty.
     #[inline]
-    fn prefetch_ahead(&self) {
+    fn prefetch_ahead<E: HasEntry>(&self, e: &[E]) {
         let mask = self.nb - 1;
         let next = &self.buckets[(self.cur.wrapping_add(1) as u64 as usize) & mask];
         crate::prefetch::prefetch(&self.buckets[(self.cur.wrapping_add(2) as u64 as usize) & mask]);
         for &i in &next.ids[..(next.len as usize).min(INLINE)] {
-            crate::prefetch::prefetch(&self.slots[i as usize]);
+            if let Some(x) = e.get(i as usize) {
+                crate::prefetch::prefetch(x.entry());
+            }
         }
     }
 }
@@ -326,7 +312,6 @@ impl Calendar for PaulCalendar {
             up
         };
         PaulCalendar {
-            slots: vec![EMPTY_SLOT; n],
             buckets: vec![EMPTY_BUCKET; nb],
             overflow: Vec::new(),
             heap: Vec::with_capacity(64),
@@ -344,57 +329,57 @@ impl Calendar for PaulCalendar {
     }
 
     #[inline]
-    fn schedule(&mut self, i: u32, t: f64) {
+    fn schedule<E: HasEntry>(&mut self, e: &mut [E], i: u32, t: f64) {
         debug_assert!(!t.is_nan(), "NaN event time for particle {i}");
-        self.remove(i);
+        self.remove(e, i);
         if t < f64::INFINITY {
-            self.insert(i, t);
+            self.insert(e, i, t);
             self.len += 1;
         }
     }
 
     #[inline]
-    fn remove(&mut self, i: u32) {
-        let l = self.slots[i as usize].loc;
+    fn remove<E: HasEntry>(&mut self, e: &mut [E], i: u32) {
+        let l = e[i as usize].entry().loc;
         if l == NONE {
             return;
         }
         if l & DEFERRED == DEFERRED {
-            self.deferred_remove((l & !DEFERRED) as usize);
+            self.deferred_remove(e, (l & !DEFERRED) as usize);
             self.in_buckets -= 1;
         } else if l & IN_HEAP != 0 {
-            self.heap_remove((l & !IN_HEAP) as usize);
+            self.heap_remove(e, (l & !IN_HEAP) as usize);
         } else if l & IN_OVERFLOW != 0 {
-            self.overflow_remove((l & !IN_OVERFLOW) as usize);
+            self.overflow_remove(e, (l & !IN_OVERFLOW) as usize);
         } else {
-            self.unlink(i, l as usize);
+            self.unlink(e, i, l as usize);
             self.in_buckets -= 1;
         }
-        self.slots[i as usize].loc = NONE;
+        e[i as usize].entry_mut().loc = NONE;
         self.len -= 1;
     }
 
     #[inline]
-    fn pop(&mut self) -> Option<(u32, f64)> {
+    fn pop<E: HasEntry>(&mut self, e: &mut [E]) -> Option<(u32, f64)> {
         if self.heap.is_empty() {
             if self.len == 0 {
                 return None;
             }
-            self.advance();
+            self.advance(e);
         }
         let (t, i) = self.heap[0];
-        self.heap_remove(0);
-        self.slots[i as usize].loc = NONE;
+        self.heap_remove(e, 0);
+        e[i as usize].entry_mut().loc = NONE;
         self.len -= 1;
         Some((i, t))
     }
 
-    fn peek_time(&mut self) -> Option<f64> {
+    fn peek_time<E: HasEntry>(&mut self, e: &mut [E]) -> Option<f64> {
         if self.heap.is_empty() {
             if self.len == 0 {
                 return None;
             }
-            self.advance();
+            self.advance(e);
         }
         Some(self.heap[0].0)
     }
@@ -406,7 +391,7 @@ impl Calendar for PaulCalendar {
     #[inline(always)]
     fn next_hint(&self) -> Option<u32> {
         match self.heap.first() {
-            Some(e) => Some(e.1),
+            Some(h) => Some(h.1),
             // The heap runs dry after its last entry: the next bucket's first entry is the best
             // guess (its line was asked for at the last advance).
             None => {
@@ -417,21 +402,14 @@ impl Calendar for PaulCalendar {
     }
 
     #[inline(always)]
-    fn prefetch(&self, i: u32) {
-        if let Some(slot) = self.slots.get(i as usize) {
-            crate::prefetch::prefetch(slot);
-        }
-    }
-
-    #[inline(always)]
-    fn prefetch_filing(&self, i: u32, t: f64) {
+    fn prefetch_filing<E: HasEntry>(&self, e: &[E], i: u32, t: f64) {
         let k = self.bucket_of(t) - self.cur;
         if k > 0 && (k as u64) < self.nb as u64 {
             let b = ((self.cur + k) as u64 as usize) & (self.nb - 1);
             crate::prefetch::prefetch(&self.buckets[b]);
         }
-        if let Some(slot) = self.slots.get(i as usize) {
-            let l = slot.loc;
+        if let Some(x) = e.get(i as usize) {
+            let l = x.entry().loc;
             if l & (IN_HEAP | IN_OVERFLOW) == 0 && (l as usize) < self.buckets.len() {
                 crate::prefetch::prefetch(&self.buckets[l as usize]);
             }
@@ -455,19 +433,21 @@ impl Calendar for PaulCalendar {
         self.cur
     }
 
-    fn defer_filings(&mut self, on: bool) {
+    fn defer_filings<E: HasEntry>(&mut self, e: &mut [E], on: bool) {
         if !on {
-            self.link_deferred();
+            self.link_deferred(e);
         }
         self.defer = on;
     }
 
-    fn reset(&mut self, origin: f64, width: f64) {
+    fn reset<E: HasEntry>(&mut self, e: &mut [E], origin: f64, width: f64) {
         assert!(
             width > 0.0 && width.is_finite(),
             "calendar bucket width must be positive"
         );
-        self.slots.fill(EMPTY_SLOT);
+        for x in e.iter_mut() {
+            *x.entry_mut() = Entry::EMPTY;
+        }
         self.buckets.fill(EMPTY_BUCKET);
         self.overflow.clear();
         self.heap.clear();
