@@ -1,9 +1,11 @@
-//! Cell list: a grid of cells no smaller than the largest particle diameter, with intrusive doubly
-//! linked member lists, so moving a particle between cells is O(1).
+//! Cell list: a grid of cells no smaller than the largest particle diameter, with intrusive singly
+//! linked member lists.
 //!
-//! The forward link of each member lives in the member itself ([`CellLink`]): walking a cell then
-//! reads one cache line per member instead of two. The grid keeps the cell heads and the backward
-//! links, which only removal needs.
+//! The link of each member lives in the member itself ([`CellLink`]): walking a cell then reads one
+//! cache line per member instead of two. The grid keeps only the cell heads. Removing a member walks
+//! its cell from the head to its predecessor: a cell holds about one particle (cells are about one
+//! diameter wide), so that walk reads the lines the cell's neighbourhood search reads anyway, where
+//! backward links cost an array of their own and two more lines per crossing.
 //!
 //! Membership changes only through cell-crossing events; a particle's cell is authoritative even when
 //! its lazily advanced position sits on the far side of a face by round-off.
@@ -28,7 +30,6 @@ pub struct CellGrid<const D: usize> {
     /// Offsets of the 3^(D−1) cells at offset −1 (index `2a`) or +1 (index `2a + 1`) along axis `a`.
     pub partial: Vec<Vec<isize>>,
     head: Vec<u32>,
-    prev: Vec<u32>,
 }
 
 /// A cell member that stores its forward link (the next member of its cell, or [`NONE`]).
@@ -51,14 +52,9 @@ impl CellLink for u32 {
 }
 
 impl<const D: usize> CellGrid<D> {
-    /// A grid over a box `box_len` for `particles` particles, with cells of side at least `min_side`
-    /// (close to `target_side` when that is larger).
-    pub fn new(
-        box_len: &Vector<D>,
-        min_side: f64,
-        target_side: f64,
-        particles: usize,
-    ) -> Result<Self, EdmdError> {
+    /// A grid over a box `box_len`, with cells of side at least `min_side` (close to `target_side`
+    /// when that is larger).
+    pub fn new(box_len: &Vector<D>, min_side: f64, target_side: f64) -> Result<Self, EdmdError> {
         let mut n = [0usize; D];
         let mut side = [0.0; D];
         let mut stride = [0usize; D];
@@ -114,7 +110,6 @@ impl<const D: usize> CellGrid<D> {
             full,
             partial,
             head: vec![NONE; total],
-            prev: vec![NONE; particles],
         })
     }
 
@@ -134,20 +129,6 @@ impl<const D: usize> CellGrid<D> {
         if let Some(h) = self.head.get(idx) {
             crate::prefetch::prefetch(h);
         }
-    }
-
-    /// Asks for the line of member `i`'s backward link, which moving it to another cell writes.
-    #[inline(always)]
-    pub(crate) fn prefetch_link(&self, i: usize) {
-        if let Some(p) = self.prev.get(i) {
-            crate::prefetch::prefetch(p);
-        }
-    }
-
-    /// Member `i`'s predecessor in its cell, or [`NONE`] (`i` is its cell's first member).
-    #[inline(always)]
-    pub(crate) fn before(&self, i: usize) -> u32 {
-        self.prev[i]
     }
 
     /// Number of cells.
@@ -248,27 +229,28 @@ impl<const D: usize> CellGrid<D> {
     /// Adds member `i` of `items` to cell `idx`.
     #[inline]
     pub fn insert<T: CellLink>(&mut self, items: &mut [T], i: u32, idx: usize) {
-        let h = self.head[idx];
-        items[i as usize].set_link(h);
-        self.prev[i as usize] = NONE;
-        if h != NONE {
-            self.prev[h as usize] = i;
-        }
+        items[i as usize].set_link(self.head[idx]);
         self.head[idx] = i;
     }
 
-    /// Removes member `i` of `items` from cell `idx` (which must hold it).
+    /// Removes member `i` of `items` from cell `idx` (which must hold it), walking the cell from its
+    /// head to `i`'s predecessor.
     #[inline]
     pub fn remove<T: CellLink>(&mut self, items: &mut [T], i: u32, idx: usize) {
-        let (n, p) = (items[i as usize].link(), self.prev[i as usize]);
-        if p == NONE {
-            debug_assert_eq!(self.head[idx], i);
-            self.head[idx] = n;
-        } else {
-            items[p as usize].set_link(n);
+        let next = items[i as usize].link();
+        let mut k = self.head[idx];
+        if k == i {
+            self.head[idx] = next;
+            return;
         }
-        if n != NONE {
-            self.prev[n as usize] = p;
+        loop {
+            debug_assert!(k != NONE, "member {i} not in cell {idx}");
+            let l = items[k as usize].link();
+            if l == i {
+                items[k as usize].set_link(next);
+                return;
+            }
+            k = l;
         }
     }
 
@@ -279,7 +261,7 @@ impl<const D: usize> CellGrid<D> {
 
     /// Heap bytes held by the grid.
     pub fn heap_bytes(&self) -> usize {
-        4 * (self.head.capacity() + self.prev.capacity())
+        4 * self.head.capacity()
     }
 }
 
@@ -290,21 +272,21 @@ mod tests {
 
     #[test]
     fn small_boxes_are_rejected_by_name() {
-        let e = CellGrid::<2>::new(&vector![2.9, 10.0], 1.0, 1.0, 4).unwrap_err();
+        let e = CellGrid::<2>::new(&vector![2.9, 10.0], 1.0, 1.0).unwrap_err();
         assert!(e.to_string().contains("Lx = 2.9"), "{e}");
-        assert!(CellGrid::<2>::new(&vector![3.0, 3.0], 1.0, 1.0, 4).is_ok());
+        assert!(CellGrid::<2>::new(&vector![3.0, 3.0], 1.0, 1.0).is_ok());
     }
 
     #[test]
     fn cells_are_never_smaller_than_the_diameter() {
-        let g = CellGrid::<3>::new(&vector![10.5, 7.0, 3.2], 1.0, 0.5, 1).unwrap();
+        let g = CellGrid::<3>::new(&vector![10.5, 7.0, 3.2], 1.0, 0.5).unwrap();
         assert_eq!(g.n, [10, 7, 3]);
         assert!(g.side.iter().all(|&s| s >= 1.0));
     }
 
     #[test]
     fn neighbours_wrap_periodic_axes_and_stop_at_walls() {
-        let g = CellGrid::<2>::new(&vector![4.0, 3.0], 1.0, 1.0, 1).unwrap();
+        let g = CellGrid::<2>::new(&vector![4.0, 3.0], 1.0, 1.0).unwrap();
         // Cell (0, 2); code 0 is offset (-1, -1), code 8 is (+1, +1), code 4 the cell itself.
         let c = [0, 2];
         assert_eq!(g.neighbour(&c, 4, |_| false), Some(2 * 4));
@@ -319,7 +301,7 @@ mod tests {
     fn all_neighbours_at_once_match_one_by_one() {
         // Every cell of a small 3D grid (3 cells along y, so that neighbours wrap onto each other
         // there), every code, with each axis periodic or walled.
-        let g = CellGrid::<3>::new(&vector![5.0, 3.0, 4.0], 1.0, 1.0, 1).unwrap();
+        let g = CellGrid::<3>::new(&vector![5.0, 3.0, 4.0], 1.0, 1.0).unwrap();
         for walls in 0..8u32 {
             let wall = |a: usize| walls & (1 << a) != 0;
             for idx in 0..g.len() {
@@ -340,7 +322,7 @@ mod tests {
 
     #[test]
     fn insert_and_remove_keep_lists_consistent() {
-        let mut g = CellGrid::<2>::new(&vector![4.0, 4.0], 1.0, 1.0, 4).unwrap();
+        let mut g = CellGrid::<2>::new(&vector![4.0, 4.0], 1.0, 1.0).unwrap();
         let mut links = vec![NONE; 4];
         for i in 0..4 {
             g.insert(&mut links, i, 5);

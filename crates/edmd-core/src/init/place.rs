@@ -15,7 +15,7 @@ pub(super) fn random_positions<const D: usize, B: Boundary>(
 ) -> Result<Vec<Vector<D>>, EdmdError> {
     const ATTEMPTS: usize = 10_000;
     let max_d = 2.0 * radii.iter().cloned().fold(0.0, f64::max);
-    let mut grid = CellGrid::<D>::new(box_len, max_d, max_d, radii.len())?;
+    let mut grid = CellGrid::<D>::new(box_len, max_d, max_d)?;
     // Largest particles first: they are the hardest to fit.
     let mut order: Vec<usize> = (0..radii.len()).collect();
     order.sort_by(|&a, &b| radii[b].total_cmp(&radii[a]));

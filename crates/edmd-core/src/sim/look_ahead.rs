@@ -13,8 +13,8 @@
 //! |---|---|
 //! | 5 | the bucket's own line |
 //! | 4 | each entry's particle record and bookkeeping (which holds its calendar entry) |
-//! | 3 | collision (or stale candidate): the heads of the 3^D cells it will search, the partner's record, bookkeeping and entry; crossing: the heads of the cell it enters and of the newly adjacent cells, its own and its successor's backward cell links |
-//! | 2 | collision: the first member of each of those cells, the partner's cell heads and calendar bucket; crossing: the first members of the newly adjacent cells, the backward link of the new cell's first member, the record of its predecessor in the old cell |
+//! | 3 | collision (or stale candidate): the heads of the 3^D cells it will search, the partner's record and bookkeeping; crossing: the heads of the cell it enters, of the newly adjacent cells and of the cell it leaves |
+//! | 2 | collision: the first member of each of those cells, the partner's cell heads and calendar bucket; crossing: the first members of the newly adjacent cells and of the cell it leaves (its removal walks from there) |
 //!
 //! Entries that a collision reschedules before their bucket comes are simply asked for in vain; the
 //! few events filed into the next buckets meanwhile get only the one-event look-ahead of the step.
@@ -70,11 +70,8 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                 Reads::Cross { centre, side } => {
                     self.grid.prefetch_head(centre);
                     self.prefetch_heads(centre, &self.grid.partial[side]);
-                    self.grid.prefetch_link(i);
-                    let next = self.particles[i].next_in_cell;
-                    if next != NONE {
-                        self.grid.prefetch_link(next as usize);
-                    }
+                    // The cell it leaves, which its removal walks from the head.
+                    self.grid.prefetch_head(self.grid.index(&self.meta[i].cell));
                 }
                 Reads::Nothing => {}
             }
@@ -93,13 +90,9 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                 }
                 Reads::Cross { centre, side } => {
                     self.prefetch_members(centre, &self.grid.partial[side]);
-                    let h = self.grid.first(centre);
-                    if h != NONE {
-                        self.grid.prefetch_link(h as usize);
-                    }
-                    let before = self.grid.before(i);
-                    if before != NONE {
-                        prefetch_record(&self.particles[before as usize]);
+                    let first = self.grid.first(self.grid.index(&self.meta[i].cell));
+                    if first != NONE && first as usize != i {
+                        prefetch_record(&self.particles[first as usize]);
                     }
                 }
                 Reads::Nothing => {}

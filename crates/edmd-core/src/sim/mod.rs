@@ -291,12 +291,12 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         }
         let skin = params.neighbour_skin * max_d;
         let list_grid = (skin > 0.0 && !B::GRAVITY)
-            .then(|| CellGrid::new(&box_len, max_d + skin, max_d * params.cell_factor, n).ok())
+            .then(|| CellGrid::new(&box_len, max_d + skin, max_d * params.cell_factor).ok())
             .flatten();
         let (grid, nl) = match list_grid {
             Some(g) => (g, Some(NeighbourLists::new(n, skin, max_d))),
             None => (
-                CellGrid::new(&box_len, max_d, max_d * params.cell_factor, n)?,
+                CellGrid::new(&box_len, max_d, max_d * params.cell_factor)?,
                 None,
             ),
         };
