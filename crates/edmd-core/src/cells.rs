@@ -29,6 +29,9 @@ pub struct CellGrid<const D: usize> {
     pub full: Vec<isize>,
     /// Offsets of the 3^(D−1) cells at offset −1 (index `2a`) or +1 (index `2a + 1`) along axis `a`.
     pub partial: Vec<Vec<isize>>,
+    /// [`CellGrid::partial`] with each run of consecutive cells reduced to its first and last
+    /// (a run's heads share a line or straddle two): what a prefetch of their heads asks for.
+    pub(crate) partial_probes: Vec<Vec<isize>>,
     head: Vec<u32>,
 }
 
@@ -107,6 +110,7 @@ impl<const D: usize> CellGrid<D> {
             n,
             side,
             stride,
+            partial_probes: partial.iter().map(|p| line_probes(p)).collect(),
             full,
             partial,
             head: vec![NONE; total],
@@ -126,8 +130,22 @@ impl<const D: usize> CellGrid<D> {
     /// Asks for the line of cell `idx`'s head (a hint).
     #[inline(always)]
     pub(crate) fn prefetch_head(&self, idx: usize) {
-        if let Some(h) = self.head.get(idx) {
-            crate::prefetch::prefetch(h);
+        crate::prefetch::prefetch_at(&self.head, idx);
+    }
+
+    /// Calls `f` with the first cell of each of the 3^(D−1) rows of three consecutive cells (along
+    /// the first axis) that make up the neighbourhood of the interior cell `centre`. The loops have
+    /// constant bounds, so they unroll into fixed offsets from the row starts.
+    #[inline(always)]
+    pub(crate) fn for_each_row(&self, centre: usize, mut f: impl FnMut(usize)) {
+        for code in 0..3usize.pow(D as u32 - 1) {
+            let mut rest = code;
+            let mut start = centre as isize - 1;
+            for a in 1..D {
+                start += ((rest % 3) as isize - 1) * self.stride[a] as isize;
+                rest /= 3;
+            }
+            f(start as usize);
         }
     }
 
@@ -265,6 +283,24 @@ impl<const D: usize> CellGrid<D> {
     }
 }
 
+/// The first and last offset of each run of consecutive offsets (one offset for a run of one).
+fn line_probes(offsets: &[isize]) -> Vec<isize> {
+    let mut probes = Vec::new();
+    let mut k = 0;
+    while k < offsets.len() {
+        let mut end = k;
+        while end + 1 < offsets.len() && offsets[end + 1] == offsets[end] + 1 {
+            end += 1;
+        }
+        probes.push(offsets[k]);
+        if end > k {
+            probes.push(offsets[end]);
+        }
+        k = end + 1;
+    }
+    probes
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -318,6 +354,35 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// The cells `for_each_row` visits around `c`, against the neighbourhood `full` names.
+    fn rows_and_full<const D: usize>(g: &CellGrid<D>, c: [u32; D]) -> (Vec<usize>, Vec<usize>) {
+        let centre = g.index(&c);
+        let mut cells = vec![];
+        g.for_each_row(centre, |row| cells.extend(row..row + 3));
+        let mut want: Vec<usize> = g
+            .full
+            .iter()
+            .map(|&o| (centre as isize + o) as usize)
+            .collect();
+        want.sort_unstable();
+        (cells, want)
+    }
+
+    #[test]
+    fn rows_cover_the_neighbourhood_and_probes_the_ends_of_runs() {
+        let g = CellGrid::<2>::new(&vector![5.0, 4.0], 1.0, 1.0).unwrap();
+        // Along x the newly adjacent cells sit one per row; along y they form one row of three.
+        assert_eq!(g.partial_probes[1], g.partial[1]);
+        assert_eq!(g.partial_probes[3], vec![4, 6]);
+        let (cells, want) = rows_and_full(&g, [2, 2]);
+        assert_eq!(cells, want);
+        // In 3D: nine rows, the 27 neighbours.
+        let g = CellGrid::<3>::new(&vector![5.0, 4.0, 6.0], 1.0, 1.0).unwrap();
+        let (cells, want) = rows_and_full(&g, [2, 2, 3]);
+        assert_eq!(cells.len(), 27);
+        assert_eq!(cells, want);
     }
 
     #[test]

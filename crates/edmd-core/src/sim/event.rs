@@ -57,8 +57,9 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         if !S::LISTS && self.look_ahead {
             let at = self.calendar.position();
             if at != self.look_at {
+                let jump = at.wrapping_sub(self.look_at);
                 self.look_at = at;
-                self.look_ahead_cells();
+                self.look_ahead_cells(jump);
             }
         }
         debug_assert!(t >= self.now, "event in the past: {t} < {}", self.now);
