@@ -22,6 +22,7 @@ CLASS_COLOURS = {
     "shearing": "#fdae61",
     "clustering": "#d7191c",
     "collapsed": "#555555",
+    "stalled": "#8c6d31",
     "failed": "#bbbbbb",
 }
 

@@ -221,7 +221,7 @@ def report(out, dest, max_points: int = 24, movies: bool = True) -> Path:
 def _html(index: io.Index, rows, images) -> str:
     spec = index.spec
     head = ["eps", "beta", "species", "scene", "n", "phi", "box_side", "boundary", "remedy", "seeds", "done", "collapsed",
-            "failed", "tau_end", "log10_t_ratio", "log10_t_haff", "l_over_l_perp", "l_over_l_par",
+            "stalled", "failed", "tau_end", "log10_t_ratio", "log10_t_haff", "l_over_l_perp", "l_over_l_par",
             "kinetic", "shearing", "clustering", "shear_onset_tau", "cluster_onset_tau"]
 
     def cell(v):
@@ -252,7 +252,7 @@ pre{{overflow-x:auto;max-width:100%}}</style></head><body>
 <h1>Sweep {html.escape(index.name)}</h1>
 <p>{html.escape(spec.get("description", ""))}</p>
 <h2>Phase table</h2>
-<p>One row per grid point over its seeds: replicas done, collapsed and failed, the end of the run, T/T0
+<p>One row per grid point over its seeds: replicas done, collapsed, stalled and failed, the end of the run, T/T0
 against Haff's law, the box over the theory's unstable lengths, the class fractions and onset times.</p>
 <div class="table-box">
 <table>

@@ -44,8 +44,8 @@ corrupt ones moved aside as rNNNNN.h5.corrupt and redone. One run (or one shard)
 Exit status:
   0   success (status: every replica done)
   1   bad input (spec, arguments' values, memory estimate) or an I/O error; nothing was run
-  2   the sweep ran but a replica failed or collapsed; status/merge: replicas failed, collapsed,
-      missing or corrupt
+  2   the sweep ran but a replica failed, collapsed or stalled (ended before its stop);
+      status/merge: replicas failed, collapsed, stalled, missing or corrupt
   64  usage error (unknown option, missing argument)
 Spec format: docs/sweep-spec.md.";
 
@@ -272,7 +272,7 @@ fn execute(command: Command) -> anyhow::Result<ExitCode> {
                     eprintln!("{}: {r}: {message}", status.name());
                 }
                 eprintln!(
-                    "error: {} replica(s) failed or collapsed (listed above; their files record why)",
+                    "error: {} replica(s) failed, collapsed or stalled (listed above; their files record why)",
                     report.problems.len()
                 );
                 Ok(ExitCode::from(2))
@@ -288,11 +288,12 @@ fn execute(command: Command) -> anyhow::Result<ExitCode> {
                 .count();
             let count = |s: Status| records.iter().filter(|r| r.status == s).count();
             println!(
-                "{}: {} replicas: {} done, {} collapsed, {} failed, {} corrupt, {} in flight or partial, {} pending",
+                "{}: {} replicas: {} done, {} collapsed, {} stalled, {} failed, {} corrupt, {} in flight or partial, {} pending",
                 spec.name,
                 records.len(),
                 count(Status::Done),
                 count(Status::Collapsed),
+                count(Status::Stalled),
                 count(Status::Failed),
                 count(Status::Corrupt),
                 partial,
@@ -301,7 +302,7 @@ fn execute(command: Command) -> anyhow::Result<ExitCode> {
             for r in records.iter().filter(|r| {
                 matches!(
                     r.status,
-                    Status::Failed | Status::Collapsed | Status::Corrupt
+                    Status::Failed | Status::Collapsed | Status::Stalled | Status::Corrupt
                 )
             }) {
                 println!("  {} r{:05}: {}", r.status, r.index, r.message);
@@ -402,7 +403,7 @@ fn execute(command: Command) -> anyhow::Result<ExitCode> {
     }
 }
 
-/// 0 when every replica is done, else 2 (failed, collapsed, missing or corrupt replicas).
+/// 0 when every replica is done, else 2 (failed, collapsed, stalled, missing or corrupt replicas).
 fn exit_for(records: &[Record]) -> ExitCode {
     if records.iter().all(|r| r.status == Status::Done) {
         ExitCode::SUCCESS

@@ -13,6 +13,7 @@ pub mod budget;
 pub mod classify;
 pub mod domain;
 mod error;
+pub mod files;
 pub mod h5md;
 pub mod lock;
 pub mod merge;

@@ -6,7 +6,7 @@
 //! writes its PID into the file it holds exclusively; a refused run names that PID. The lock is
 //! released when the process ends, however it ends (the kernel drops `flock` locks with the file).
 
-use std::fs::{File, OpenOptions, TryLockError};
+use std::fs::{File, TryLockError};
 use std::io::{Read, Seek, Write};
 use std::path::{Path, PathBuf};
 
@@ -29,20 +29,19 @@ pub struct OutLock {
     _shard: Option<File>,
 }
 
+/// Opens a lock file, never through a symbolic link ([`crate::files`]).
 fn open(path: &Path) -> Result<File, SweepError> {
-    OpenOptions::new()
-        .read(true)
-        .write(true)
-        .create(true)
-        .truncate(false)
-        .open(path)
-        .map_err(|e| SweepError::io("cannot open lock file", path, e))
+    crate::files::open_no_follow(path)
 }
 
 /// The PID written into a lock file, if any.
 fn holder(path: &Path) -> Option<u32> {
     let mut text = String::new();
-    File::open(path)
+    use std::os::unix::fs::OpenOptionsExt;
+    std::fs::OpenOptions::new()
+        .read(true)
+        .custom_flags(libc::O_NOFOLLOW)
+        .open(path)
         .ok()?
         .take(64)
         .read_to_string(&mut text)
@@ -69,7 +68,7 @@ fn shard_holders(root: &Path) -> Vec<(String, Option<u32>)> {
         let Some(shard) = name.strip_prefix(".lock.shard-") else {
             continue;
         };
-        let Ok(f) = File::open(entry.path()) else {
+        let Ok(f) = crate::files::open_no_follow(&entry.path()) else {
             continue;
         };
         if let Err(TryLockError::WouldBlock) = f.try_lock_shared() {

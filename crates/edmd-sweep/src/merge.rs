@@ -57,17 +57,34 @@ pub fn merge(inputs: &[PathBuf], target: &Path) -> Result<MergeReport, SweepErro
                 skipped.push((src, why));
                 continue;
             }
-            let part = out.part_path(&r);
-            fs::copy(&src, &part)
-                .and_then(|_| fs::rename(&part, out.replica_path(&r)))
-                .map_err(|e| {
-                    let _ = fs::remove_file(&part);
-                    SweepError::io("cannot copy", &src, e)
-                })?;
+            copy_replica(&src, &out.part_path(&r), &out.replica_path(&r))?;
         }
     }
     // The index is written even with replicas missing: it lists them, and a later merge rewrites it.
     let records = out.records(&spec);
     out.write_index(&spec, &records)?;
     Ok(MergeReport { records, skipped })
+}
+
+/// Copies a replica file to `part` (created fresh, never through a link), syncs it, renames it to
+/// `dest` and syncs the directory: a merge killed at any moment leaves `dest` whole or absent, as a
+/// run does.
+fn copy_replica(src: &Path, part: &Path, dest: &Path) -> Result<(), SweepError> {
+    let copied = crate::files::create_fresh(part).and_then(|mut to| {
+        fs::File::open(src)
+            .and_then(|mut from| std::io::copy(&mut from, &mut to))
+            .and_then(|_| to.sync_all())
+            .and_then(|_| fs::rename(part, dest))
+            .map_err(|e| SweepError::io("cannot copy", src, e))
+    });
+    if copied.is_err() {
+        let _ = fs::remove_file(part);
+    }
+    copied?;
+    if let Some(dir) = dest.parent() {
+        fs::File::open(dir)
+            .and_then(|d| d.sync_all())
+            .map_err(|e| SweepError::io("cannot sync", dir, e))?;
+    }
+    Ok(())
 }

@@ -45,8 +45,10 @@ pub enum ReplicaState {
 /// reader never sees a half-written file.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), SweepError> {
     let tmp = tmp_path(path);
-    let result = fs::File::create(&tmp)
-        .and_then(|mut f| f.write_all(bytes).and_then(|_| f.sync_all()))
+    let mut file = crate::files::create_fresh(&tmp)?;
+    let result = file
+        .write_all(bytes)
+        .and_then(|_| file.sync_all())
         .and_then(|_| fs::rename(&tmp, path));
     result.map_err(|e| {
         let _ = fs::remove_file(&tmp);
@@ -293,6 +295,7 @@ impl OutDir {
     pub fn write_index(&self, spec: &Spec, records: &[Record]) -> Result<(), SweepError> {
         let index = self.root.join("sweep.h5");
         let tmp = tmp_path(&index);
+        crate::files::create_fresh(&tmp)?;
         let written = write_index_h5(&tmp, spec, records)
             .map_err(|e| SweepError::hdf5(&tmp, e))
             .and_then(|_| {

@@ -16,10 +16,14 @@ use crate::spec::Replica;
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Status {
-    /// Reached its stop condition (or ran out of events).
+    /// Reached its stop condition.
     Done,
     /// Inelastic collapse was detected; the data up to the collapse are kept.
     Collapsed,
+    /// Stopped before its stop condition without a collapse: pair collisions ceased (a
+    /// wall-collision cascade on a dissipating floor, lanes that stream past each other, no events
+    /// left). The message says which; the data up to the stall are kept.
+    Stalled,
     /// Could not be set up (e.g. a start that cannot reach the density).
     Failed,
     /// No replica file yet (index records only; never written into a replica file).
@@ -31,9 +35,10 @@ pub enum Status {
 
 impl Status {
     /// Every status, in the order of the tables.
-    pub const ALL: [Status; 5] = [
+    pub const ALL: [Status; 6] = [
         Status::Done,
         Status::Collapsed,
+        Status::Stalled,
         Status::Failed,
         Status::Missing,
         Status::Corrupt,
@@ -44,20 +49,29 @@ impl Status {
         match self {
             Status::Done => "done",
             Status::Collapsed => "collapsed",
+            Status::Stalled => "stalled",
             Status::Failed => "failed",
             Status::Missing => "missing",
             Status::Corrupt => "corrupt",
         }
     }
 
-    /// True for a replica with a whole file (done, collapsed or failed).
+    /// True for a replica with a whole file (done, collapsed, stalled or failed).
     pub fn has_file(self) -> bool {
-        matches!(self, Status::Done | Status::Collapsed | Status::Failed)
+        matches!(
+            self,
+            Status::Done | Status::Collapsed | Status::Stalled | Status::Failed
+        )
     }
 
-    /// True for a replica that ran and has data to aggregate (done or collapsed).
+    /// True for a replica that ran and has data to aggregate (done, collapsed or stalled).
     pub fn has_data(self) -> bool {
-        matches!(self, Status::Done | Status::Collapsed)
+        matches!(self, Status::Done | Status::Collapsed | Status::Stalled)
+    }
+
+    /// True for a replica that ran but did not reach its stop (exit code 2 of `run` and `status`).
+    pub fn ended_early(self) -> bool {
+        matches!(self, Status::Collapsed | Status::Stalled)
     }
 }
 

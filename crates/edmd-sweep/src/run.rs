@@ -1,7 +1,6 @@
 //! Running a sweep: the replicas of a shard across a rayon pool, skipping finished ones, each replica
 //! written atomically as soon as it ends; progress goes to the caller's [`Progress`].
 
-use std::fs;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Mutex;
 use std::time::Instant;
@@ -116,9 +115,7 @@ pub fn run_sweep(
     let mut todo: Vec<&Replica> = Vec::new();
     for r in &mine {
         let part = out.part_path(r);
-        if part.exists() {
-            fs::remove_file(&part).map_err(|e| SweepError::io("cannot remove", &part, e))?;
-        }
+        crate::files::remove_stale(&part)?;
         match out.state(r, &hash) {
             ReplicaState::Finished(_) => {}
             ReplicaState::Missing => todo.push(r),
@@ -200,7 +197,7 @@ pub fn run_sweep(
             let rec = &records[r.index];
             matches!(
                 rec.status,
-                Status::Failed | Status::Collapsed | Status::Corrupt
+                Status::Failed | Status::Collapsed | Status::Stalled | Status::Corrupt
             )
             .then(|| (r.clone(), rec.status, rec.message.clone()))
         })

@@ -40,6 +40,8 @@ pub struct PointRow {
     pub done: usize,
     /// Seeds that collapsed.
     pub collapsed: usize,
+    /// Seeds that stalled (pair collisions ceased before the stop, no collapse).
+    pub stalled: usize,
     /// Seeds that failed to start.
     pub failed: usize,
     /// Seeds not (yet) run.
@@ -146,6 +148,7 @@ pub fn phase_table(spec: &Spec, records: &[Record]) -> Vec<PointRow> {
                 seeds: g.len(),
                 done: count(Status::Done),
                 collapsed: count(Status::Collapsed),
+                stalled: count(Status::Stalled),
                 failed: count(Status::Failed),
                 // A corrupt file is no result: counted with the missing ones.
                 missing: count(Status::Missing) + count(Status::Corrupt),
@@ -209,7 +212,7 @@ fn scene_label(r: &Record) -> String {
     parts.join(" ")
 }
 
-const COLUMNS: usize = 25;
+const COLUMNS: usize = 26;
 const HEADER: [&str; COLUMNS] = [
     "D",
     "boundary",
@@ -224,6 +227,7 @@ const HEADER: [&str; COLUMNS] = [
     "seeds",
     "done",
     "collapsed",
+    "stalled",
     "failed",
     "missing",
     "tau_end",
@@ -268,6 +272,7 @@ fn cells(r: &PointRow) -> [String; COLUMNS] {
         r.seeds.to_string(),
         r.done.to_string(),
         r.collapsed.to_string(),
+        r.stalled.to_string(),
         r.failed.to_string(),
         r.missing.to_string(),
         f(r.tau_end, 1),

@@ -90,6 +90,8 @@ pub enum Class {
     Clustering,
     /// Inelastic collapse ended the run.
     Collapsed,
+    /// Pair collisions ceased before the stop (no collapse): not classified.
+    Stalled,
     /// The replica could not start.
     Failed,
     /// Not a freely cooling gas (gravity or a thermal floor): the classes do not apply; the note
@@ -99,11 +101,12 @@ pub enum Class {
 
 impl Class {
     /// Every class, in table order.
-    pub const ALL: [Class; 6] = [
+    pub const ALL: [Class; 7] = [
         Class::Kinetic,
         Class::Shearing,
         Class::Clustering,
         Class::Collapsed,
+        Class::Stalled,
         Class::Failed,
         Class::NotApplicable,
     ];
@@ -115,6 +118,7 @@ impl Class {
             Class::Shearing => "shearing",
             Class::Clustering => "clustering",
             Class::Collapsed => "collapsed",
+            Class::Stalled => "stalled",
             Class::Failed => "failed",
             Class::NotApplicable => "not_applicable",
         }

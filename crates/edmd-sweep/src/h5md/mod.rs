@@ -220,6 +220,8 @@ fn finish_replica(
     r: &Replica,
     out: &Outcome,
 ) -> Result<(), SweepError> {
+    // Made by us, as a regular file (never through a link), before HDF5 truncates it.
+    crate::files::create_fresh(part)?;
     let file = hdf5::File::create(part).map_err(|e| SweepError::hdf5(part, e))?;
     // Every group and dataset is closed when write_file returns, so that flush and close below
     // report the errors of the last writes (a close with objects still open is deferred by HDF5,

@@ -3,8 +3,8 @@
 
 use edmd_core::theory::haff_temperature_tau;
 use edmd_core::{
-    order_parameters, Boundary, CollisionRule, EdmdError, InitParams, RunEnd, Schedule, SimParams,
-    Simulation, Stop, Vector, Velocities, VirialMeter,
+    order_parameters, Boundary, CollisionRule, Counters, EdmdError, InitParams, RunEnd, Schedule,
+    SimParams, Simulation, Stop, Vector, Velocities, VirialMeter,
 };
 
 use super::{theory, Outcome, Series, Snapshot, Status};
@@ -232,26 +232,32 @@ pub(super) fn simulate<const D: usize, B: Boundary, R: CollisionRule>(
     let mut next = earliest(schedule.first_at_or_after(0.0), next_snapshot);
     let mut end = RunEnd::Reached;
     let mut stopped_cold = false;
-    let mut stalled = false;
-    let mut window = (sim.counters().events, sim.counters().pair_collisions);
+    let mut stalled: Option<String> = None;
+    let mut window = *sim.counters();
     let mut settled_as: Option<Class> = None;
     while let Some(point) = next {
         // Advance to the sample point in chunks, reporting progress.
         let target = (point * n).ceil() as u64;
-        while end == RunEnd::Reached && sim.counters().pair_collisions < target && !stalled {
+        while end == RunEnd::Reached && sim.counters().pair_collisions < target && stalled.is_none()
+        {
             // A pair collision is one event, so this many events cannot overshoot the target.
             let left = target - sim.counters().pair_collisions;
             end = sim.run(Stop::Events(left.min(CHUNK_EVENTS)));
             let c = *sim.counters();
             progress(c.pair_collisions - reported);
             reported = c.pair_collisions;
-            let (events, pairs) = (c.events - window.0, c.pair_collisions - window.1);
+            let (events, pairs) = (
+                c.events - window.events,
+                c.pair_collisions - window.pair_collisions,
+            );
             if events >= STALL_WINDOW_PER_PARTICLE * r.n as u64 {
-                stalled = pairs * STALL_EVENTS_PER_COLLISION < events;
-                window = (c.events, c.pair_collisions);
+                if pairs * STALL_EVENTS_PER_COLLISION < events {
+                    stalled = Some(stall_reason(r, &window, &c, sim.tau()));
+                }
+                window = c;
             }
         }
-        if stalled {
+        if stalled.is_some() {
             break;
         }
         if end != RunEnd::Reached {
@@ -317,18 +323,16 @@ pub(super) fn simulate<const D: usize, B: Boundary, R: CollisionRule>(
             )
         }
         RunEnd::Exhausted => (
-            Status::Done,
-            "no events left: every particle at rest".into(),
-            None,
-        ),
-        RunEnd::Reached if stalled => (
-            Status::Done,
+            Status::Stalled,
             format!(
-                "collisions ceased at tau = {:.2}: more than {STALL_EVENTS_PER_COLLISION} events per pair collision (the gas streams in lanes)",
+                "stalled at tau = {:.4}: no events left before the stop (every particle at rest)",
                 sim.tau()
             ),
             None,
         ),
+        RunEnd::Reached if stalled.is_some() => {
+            (Status::Stalled, stalled.take().unwrap_or_default(), None)
+        }
         RunEnd::Reached if stopped_cold => (
             Status::Done,
             "stopped at stop.temperature_ratio".into(),
@@ -358,11 +362,15 @@ pub(super) fn simulate<const D: usize, B: Boundary, R: CollisionRule>(
             },
         },
         Status::Done => classify(&series.order, &c.thresholds, &theory),
-        Status::Collapsed | Status::Failed | Status::Missing | Status::Corrupt => Classification {
-            class: if status == Status::Collapsed {
-                Class::Collapsed
-            } else {
-                Class::Failed
+        Status::Collapsed
+        | Status::Stalled
+        | Status::Failed
+        | Status::Missing
+        | Status::Corrupt => Classification {
+            class: match status {
+                Status::Collapsed => Class::Collapsed,
+                Status::Stalled => Class::Stalled,
+                _ => Class::Failed,
             },
             shear_onset: f64::NAN,
             cluster_onset: f64::NAN,
@@ -396,6 +404,42 @@ pub(super) fn simulate<const D: usize, B: Boundary, R: CollisionRule>(
         classification,
         per_cell: theory.per_cell,
     })
+}
+
+/// Why a replica stopped colliding before its stop, from the counters at the start (`from`) and the
+/// end (`to`) of the window in which fewer than one event in [`STALL_EVENTS_PER_COLLISION`] was a
+/// pair collision.
+fn stall_reason(r: &Replica, from: &Counters, to: &Counters, tau: f64) -> String {
+    let events = to.events - from.events;
+    let pairs = to.pair_collisions - from.pair_collisions;
+    let walls = to.wall_collisions - from.wall_collisions;
+    let head =
+        format!("stalled at tau = {tau:.4}: {pairs} pair collisions in the last {events} events");
+    if 2 * walls > events {
+        let mut losses = Vec::new();
+        if r.wall_eps < 1.0 {
+            losses.push(format!("inelastic walls (wall_eps = {})", r.wall_eps));
+        }
+        if r.floor_temperature > 0.0 {
+            losses.push(format!("a floor at T = {:e}", r.floor_temperature));
+        }
+        let cause = if losses.is_empty() {
+            String::new()
+        } else {
+            format!("; energy lost to {}", losses.join(" and "))
+        };
+        let gravity = if r.gravity > 0.0 {
+            "; the grains bounce ever lower on the floor"
+        } else {
+            ""
+        };
+        format!("{head}, {walls} of them wall collisions: a wall-collision cascade{cause}{gravity}")
+    } else {
+        format!(
+            "{head}, {} of them cell crossings: collisions ceased (the gas streams in lanes)",
+            to.crossings - from.crossings
+        )
+    }
 }
 
 /// Two schedule points closer than round-off are one sample (a snapshot grid point and a sample
