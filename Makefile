@@ -44,8 +44,10 @@ deps:
 build:
 	$(CARGO) build --release --workspace --all-targets
 
+# The first build shows cargo's progress (a minute or two on 2 cores); later runs start at once.
 run: deps
-	$(CARGO) run --release -q -p edmd-cli --bin edmd -- run -o edmd-out/quick
+	$(CARGO) build --release -p edmd-cli --bin edmd
+	target/release/edmd run -o edmd-out/quick
 	$(VENV)/bin/python -m edmd_analysis report edmd-out/quick -o edmd-out/quick/report
 
 # The report (PNG figures and index.html) of the quick sweep; `make figures OUT=dir` for another sweep.

@@ -18,7 +18,7 @@ def edmd_binary() -> Path:
     path = REPO / "target" / "release" / "edmd"
     if not path.exists():
         subprocess.run(
-            ["cargo", "build", "--release", "-q", "-p", "edmd-sweep"], cwd=REPO, check=True
+            ["cargo", "build", "--release", "-p", "edmd-cli", "--bin", "edmd"], cwd=REPO, check=True
         )
     return path
 

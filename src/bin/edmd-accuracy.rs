@@ -14,8 +14,8 @@ use clap::{Parser, ValueEnum};
 use serde_json::json;
 
 use edmd::{
-    CollisionRule, ConstantRestitution, Elastic, InitParams, Periodic, RandomRotation, Schedule,
-    Stop, TcModel, ThresholdRestitution, Vector,
+    CollisionRule, ConstantRestitution, Elastic, InitParams, Periodic, Rule, Schedule, Stop,
+    ThresholdRestitution, Vector,
 };
 use edmd_core::geometry::ball_volume;
 use edmd_core::theory::{chi, chi_from_frequency, critical_sizes, haff_rate, Transport};
@@ -115,7 +115,7 @@ fn remedies() {
         };
         line("none", 0.0, "-", (k0, se0, s0, c0));
         for f in [1e-5, 1e-4, 1e-3, 1e-2] {
-            let r = TcModel::new(c, f * t_mf).unwrap();
+            let r = Rule::new(c).with_tc(f * t_mf).unwrap();
             line(
                 "tc",
                 f,
@@ -133,7 +133,7 @@ fn remedies() {
             );
         }
         for deg in [1.0, 2.0, 5.0, 10.0] {
-            let r = RandomRotation::new(c, f64::to_radians(deg)).unwrap();
+            let r = Rule::new(c).with_rotation(f64::to_radians(deg)).unwrap();
             line(
                 "rotation",
                 deg,
@@ -142,11 +142,9 @@ fn remedies() {
             );
         }
         for d in [1e-4, 1e-3] {
-            let r = RandomRotation::new(
-                ThresholdRestitution::new(eps, 1.0, d).unwrap(),
-                f64::to_radians(5.0),
-            )
-            .unwrap();
+            let r = Rule::new(ThresholdRestitution::new(eps, 1.0, d).unwrap())
+                .with_rotation(f64::to_radians(5.0))
+                .unwrap();
             line(
                 "threshold+rotation 5deg",
                 d,

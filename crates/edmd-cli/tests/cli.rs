@@ -327,5 +327,8 @@ fn failed_and_collapsed_replicas_are_recorded() {
     assert_eq!(status, ["failed", "done", "collapsed"]);
     let s = run(&["status", out.to_str().unwrap()]);
     let text = String::from_utf8_lossy(&s.stdout);
-    assert!(text.contains("1 done, 1 collapsed, 1 failed"), "{text}");
+    assert!(
+        text.contains("1 done, 1 collapsed, 0 stalled, 1 failed"),
+        "{text}"
+    );
 }

@@ -81,8 +81,8 @@ fn a_symlinked_lock_is_refused_and_its_target_kept() {
     assert_eq!(std::fs::read_to_string(&precious).unwrap(), keep);
 }
 
-/// A planted `.h5.part` or index temporary file that links elsewhere is replaced, not written
-/// through: the run succeeds and the link's target is untouched.
+/// A planted `.h5.part` that links elsewhere, in the output of a run and in the target of a merge,
+/// is replaced, never written through: both succeed and the link's target is untouched.
 #[test]
 fn planted_links_under_our_temporary_names_are_not_followed() {
     let tmp = tempfile::tempdir().unwrap();
@@ -91,22 +91,32 @@ fn planted_links_under_our_temporary_names_are_not_followed() {
         "s.json",
         &common::small_spec("parts", &[0.9], 64, 1, 2.0),
     );
-    let out = tmp.path().join("out");
-    std::fs::create_dir_all(out.join("replicas")).unwrap();
     let precious = tmp.path().join("precious.txt");
     std::fs::write(&precious, "keep\n").unwrap();
-    std::os::unix::fs::symlink(&precious, out.join("replicas/r00000.h5.part")).unwrap();
+    let plant = |out: &Path| {
+        std::fs::create_dir_all(out.join("replicas")).unwrap();
+        std::os::unix::fs::symlink(&precious, out.join("replicas/r00000.h5.part")).unwrap();
+    };
+    let a = tmp.path().join("a");
+    plant(&a);
     let o = run(&[
         "run",
         spec.to_str().unwrap(),
         "-o",
-        out.to_str().unwrap(),
+        a.to_str().unwrap(),
         "-q",
-        "--force",
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
     assert_eq!(std::fs::read_to_string(&precious).unwrap(), "keep\n");
-    assert!(out.join("replicas/r00000.h5").is_file());
+    let b = tmp.path().join("b");
+    plant(&b);
+    let o = run(&["merge", a.to_str().unwrap(), "-o", b.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(std::fs::read_to_string(&precious).unwrap(), "keep\n");
+    assert!(b.join("replicas/r00000.h5").is_file());
+    assert!(!common::listing(&b.join("replicas"))
+        .iter()
+        .any(|f| f.ends_with(".part")));
 }
 
 /// A column on a floor that takes all the energy of a bounce (`wall_eps` 0, gravity 1): the grains

@@ -158,7 +158,7 @@ fn corrupt_replica_files_are_reported_moved_aside_and_redone() {
     let text = String::from_utf8_lossy(&s.stdout);
     assert_eq!(s.status.code(), Some(2), "{text}");
     assert!(
-        text.contains("2 done, 0 collapsed, 0 failed, 4 corrupt"),
+        text.contains("2 done, 0 collapsed, 0 stalled, 0 failed, 4 corrupt"),
         "{text}"
     );
     for k in bad {

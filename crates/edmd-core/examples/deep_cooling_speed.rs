@@ -11,7 +11,7 @@
 //! `cargo run --release -p edmd-core --example deep_cooling_speed [-- SEEDS [N [PHI [TAU [EPS [TC]]]]]]`
 
 use edmd_core::theory::{chi, collision_frequency};
-use edmd_core::{CollisionRule, ConstantRestitution, InitParams, Periodic, RunEnd, Stop, TcModel};
+use edmd_core::{CollisionRule, ConstantRestitution, InitParams, Periodic, Rule, RunEnd, Stop};
 use std::time::Instant;
 
 /// Runs ε-restitution (with the TC model if `tc` > 0, in mean free times at T = 1) for `tau`.
@@ -19,7 +19,7 @@ fn run(eps: f64, tc: f64, n: usize, phi: f64, tau: f64, seed: u64) -> (RunEnd, f
     let rule = ConstantRestitution::new(eps).expect("valid epsilon");
     if tc > 0.0 && eps < 1.0 {
         let nu = collision_frequency(2, phi, chi(2, phi), 1.0, 1.0, 1.0);
-        let tc_model = TcModel::new(rule, tc / nu).expect("valid t_c");
+        let tc_model = Rule::new(rule).with_tc(tc / nu).expect("valid t_c");
         run_rule(tc_model, n, phi, tau, seed)
     } else {
         run_rule(rule, n, phi, tau, seed)

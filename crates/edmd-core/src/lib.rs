@@ -52,13 +52,15 @@ pub use boundary::{Axes, Boundary, Channel, Column, Container, GravityAxes, Peri
 pub use calendar::{Calendar, Entry, HasEntry, HeapCalendar, PaulCalendar, Standalone};
 pub use cells::CellGrid;
 pub use collide::{
-    CollisionRule, ConstantRestitution, Elastic, LastCollision, RandomRotation, Rough, Spin,
-    TcModel, ThesisRestitution, ThresholdRestitution, Viscoelastic,
+    CollisionRule, ConstantRestitution, Elastic, Grain, LastCollision, Law, Remedy, Rough, Rule,
+    Smooth, Spin, ThesisRestitution, ThresholdRestitution, Viscoelastic,
 };
 pub use error::EdmdError;
 pub use init::{InitParams, Placement, Velocities};
 pub use observe::{decay_rate, Observables, VirialMeter, VirialReading};
 pub use order::{order_parameters, OrderParameters};
 pub use schedule::Schedule;
-pub use sim::{Collapse, CollapseReason, Counters, EventKind, RunEnd, SimParams, Simulation, Stop};
+pub use sim::{
+    Collapse, CollapseReason, Counters, Engine, EventKind, RunEnd, SimParams, Simulation, Stop,
+};
 pub use state::{Particle, ParticleInit};

@@ -6,7 +6,7 @@
 //! (spheres: `1 + 4φχ`).
 
 use crate::calendar::Calendar;
-use crate::{Boundary, CollisionRule, Simulation, Vector};
+use crate::{Boundary, CollisionRule, Engine, Simulation, Vector};
 
 /// A snapshot of the bulk observables.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -124,27 +124,23 @@ pub struct VirialReading {
 
 impl VirialMeter {
     /// Starts measuring now.
-    pub fn start<const D: usize, B: Boundary, R: CollisionRule, C: Calendar>(
-        sim: &Simulation<D, B, R, C>,
-    ) -> Self {
+    pub fn start<const D: usize, E: Engine<D> + ?Sized>(sim: &E) -> Self {
         VirialMeter {
             time: sim.time(),
-            virial: sim.counters.virial,
-            collisions: sim.counters.pair_collisions,
+            virial: sim.counters().virial,
+            collisions: sim.counters().pair_collisions,
         }
     }
 
     /// Reads Z and ν since the start, with the current temperature.
-    pub fn read<const D: usize, B: Boundary, R: CollisionRule, C: Calendar>(
-        &self,
-        sim: &Simulation<D, B, R, C>,
-    ) -> VirialReading {
+    pub fn read<const D: usize, E: Engine<D> + ?Sized>(&self, sim: &E) -> VirialReading {
         let dt = sim.time() - self.time;
         let n = sim.len() as f64;
         let t = sim.temperature();
+        let c = sim.counters();
         VirialReading {
-            z: 1.0 + (sim.counters.virial - self.virial) / (D as f64 * n * t * dt),
-            nu: 2.0 * (sim.counters.pair_collisions - self.collisions) as f64 / (n * dt),
+            z: 1.0 + (c.virial - self.virial) / (D as f64 * n * t * dt),
+            nu: 2.0 * (c.pair_collisions - self.collisions) as f64 / (n * dt),
             duration: dt,
         }
     }

@@ -17,14 +17,12 @@ use std::fmt::Debug;
 
 use crate::EdmdError;
 
-mod remedies;
-mod rough;
+mod rule;
 mod rules;
 #[cfg(test)]
 mod tests;
 
-pub use remedies::{LastCollision, RandomRotation, TcModel};
-pub use rough::{Rough, Spin};
+pub use rule::{Grain, LastCollision, Law, Remedy, Rough, Rule, Smooth, Spin};
 pub use rules::{
     ConstantRestitution, ThesisRestitution, ThresholdRestitution, Viscoelastic, VISCOELASTIC_C1,
     VISCOELASTIC_C2,
@@ -40,11 +38,17 @@ pub trait CollisionRule: Clone + Debug + Send + Sync + 'static {
     /// between particles of reduced mass `m_eff` and reduced radius `r_eff = r_i r_j/(r_i + r_j)`.
     fn restitution(&self, vn: f64, m_eff: f64, r_eff: f64) -> f64;
 
-    /// True for rules that rotate the post-collision relative velocity ([`RandomRotation`]); the event
-    /// loop skips the rotation entirely for the others.
+    /// True for rules that may rotate the post-collision relative velocity ([`Remedy::Rotation`]);
+    /// the event loop skips the rotation entirely for the others.
     const ROTATES: bool = false;
 
-    /// True for rough particles ([`Rough`]): collisions also exchange tangential momentum and spin.
+    /// Whether this rule's collisions rotate the relative velocity (only asked when `ROTATES`).
+    #[inline(always)]
+    fn rotates(&self) -> bool {
+        Self::ROTATES
+    }
+
+    /// True for rough particles ([`Rule`] of [`Rough`] grains): collisions also exchange tangential momentum and spin.
     const ROUGH: bool = false;
 
     /// Tangential restitution β and moment-of-inertia factor q (I = q m R²) of a rough rule.

@@ -22,12 +22,10 @@ fn epsilon_domain_is_checked() {
 
 #[test]
 fn tc_model_is_elastic_within_tc() {
-    let r = TcModel::new(ConstantRestitution::new(0.5).unwrap(), 1e-3).unwrap();
-    let (mut a, mut b, mut c) = (
-        LastCollision::default(),
-        LastCollision::default(),
-        LastCollision::default(),
-    );
+    let r = Rule::new(ConstantRestitution::new(0.5).unwrap())
+        .with_tc(1e-3)
+        .unwrap();
+    let (mut a, mut b, mut c) = <[(LastCollision, ()); 3]>::default().into();
     assert_eq!(r.restitution_at(1.0, 0.5, 0.25, 1.0, &mut a, &mut b), 0.5);
     // a collided at t = 1: within t_c any collision of a is elastic, whoever the partner.
     assert_eq!(
@@ -35,7 +33,8 @@ fn tc_model_is_elastic_within_tc() {
         1.0
     );
     assert_eq!(r.restitution_at(1.0, 0.5, 0.25, 1.002, &mut b, &mut c), 0.5);
-    assert!(TcModel::new(Elastic, 0.0).is_err());
+    assert!(Rule::new(Elastic).with_tc(0.0).is_err());
+    assert!(Rule::new(Elastic).with_rotation(2.0).is_err());
 }
 
 #[test]
@@ -140,4 +139,54 @@ fn viscoelastic_reference_point_is_reproduced() {
         rule.restitution(0.1, 0.5, 0.25) > 0.9,
         "slower impacts are more elastic"
     );
+}
+
+/// Every law × remedy on rough grains is a rough rule: it carries spin and its roughness, whatever
+/// the remedy (a rotation wrapped around a rough rule once forwarded neither, and silently made the
+/// grains smooth), and the TC model keeps its memory beside the spin.
+#[test]
+fn every_law_and_remedy_keeps_rough_grains_rough() {
+    let laws: [Law; 4] = [
+        ConstantRestitution::new(0.8).unwrap().into(),
+        ThresholdRestitution::new(0.8, 1.0, 0.01).unwrap().into(),
+        ThesisRestitution::default().into(),
+        Viscoelastic::from_reference(0.8, 1.0, 0.5, 0.25, 1e5, 0.3)
+            .unwrap()
+            .into(),
+    ];
+    let remedies = [
+        Remedy::None,
+        Remedy::Tc { tc: 1e-3 },
+        Remedy::Rotation { theta_max: 0.1 },
+    ];
+    for law in laws {
+        for remedy in remedies {
+            let smooth = Rule::new(law).with_remedy(remedy).unwrap();
+            let rough = smooth.rough(0.5, 0.4).unwrap();
+            assert_eq!(rough.roughness(), (0.5, 0.4), "{law:?} {remedy:?}");
+            assert_eq!(smooth.roughness().0, -1.0);
+            let mut st = <Rule<Rough> as CollisionRule>::State::default();
+            Rule::<Rough>::set_spin(&mut st, [0.0, 0.0, 2.5]);
+            assert_eq!(Rule::<Rough>::spin(&st), [0.0, 0.0, 2.5]);
+            assert_eq!(rough.rotates(), matches!(remedy, Remedy::Rotation { .. }));
+            // The same restitution, smooth or rough, and the TC model's memory kept per particle.
+            let (mut a, mut b) = Default::default();
+            let (mut c, mut d) = Default::default();
+            let es = smooth.restitution_at(0.3, 0.5, 0.25, 1.0, &mut a, &mut b);
+            let er = rough.restitution_at(0.3, 0.5, 0.25, 1.0, &mut c, &mut d);
+            assert_eq!(es, er, "{law:?} {remedy:?}");
+            assert_eq!(
+                rough.restitution_at(0.3, 0.5, 0.25, 1.0 + 1e-4, &mut c, &mut d),
+                if matches!(remedy, Remedy::Tc { .. }) {
+                    1.0
+                } else {
+                    er
+                },
+                "{law:?} {remedy:?}"
+            );
+            assert_eq!(Rule::<Rough>::spin(&c), [0.0; 3]);
+        }
+    }
+    const { assert!(<Rule<Rough> as CollisionRule>::ROUGH) };
+    const { assert!(!<Rule as CollisionRule>::ROUGH) };
 }

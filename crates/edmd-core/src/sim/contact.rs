@@ -65,7 +65,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             R::set_spin(si, (wi + dwi).into());
             R::set_spin(sj, (wj + dwj).into());
         }
-        if R::ROTATES {
+        if R::ROTATES && self.rule.rotates() {
             let theta = self.rule.rotation_angle(&mut self.rng);
             (vi, vj) = rotate_relative(vi, vj, mi, mj, &normal, theta, &mut self.rng);
         }

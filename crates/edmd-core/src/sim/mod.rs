@@ -31,6 +31,7 @@ mod cell_search;
 mod collapse;
 mod contact;
 mod cooling;
+mod engine;
 mod event;
 mod lists;
 mod look_ahead;
@@ -46,6 +47,7 @@ use collapse::CollapseMonitor;
 /// mostly cached and the extra loads cost more than they hide (docs/benchmarks.md).
 const LOOK_AHEAD_BYTES: usize = 64 << 20;
 pub use collapse::{Collapse, CollapseReason};
+pub use engine::Engine;
 pub use event::EventKind;
 pub use params::SimParams;
 pub use run::{RunEnd, Stop};

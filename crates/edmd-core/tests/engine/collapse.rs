@@ -2,8 +2,8 @@
 //! three-particle threshold ε = 7 − 4√3 reproduced.
 
 use edmd_core::{
-    Collapse, ConstantRestitution, EventKind, InitParams, ParticleInit, Periodic, RunEnd,
-    SimParams, Simulation, Stop, TcModel, Vector, Walls,
+    Collapse, ConstantRestitution, EventKind, InitParams, ParticleInit, Periodic, Rule, RunEnd,
+    SimParams, Simulation, Stop, Vector, Walls,
 };
 
 #[test]
@@ -34,7 +34,9 @@ fn tc_model_prevents_the_collapse() {
     let mut p = InitParams::<2>::with_packing(4096, 0.5).unwrap();
     p.seed = 1;
     // t_c = 1e-4 mean free times at T0 = 1 (the mean free time at φ = 0.5 is 1/ν ≈ 0.14).
-    let rule = TcModel::new(ConstantRestitution::new(0.3).unwrap(), 1.4e-5).unwrap();
+    let rule = Rule::new(ConstantRestitution::new(0.3).unwrap())
+        .with_tc(1.4e-5)
+        .unwrap();
     let mut sim = p.build::<Periodic, _>(rule).unwrap();
     let end = sim.run(Stop::Tau(500.0));
     println!(

@@ -15,8 +15,8 @@
 //!    docs/benchmarks.md measures as unbiased (PHYSICS.md §6.4).
 
 use edmd_core::{
-    theory, ConstantRestitution, EventKind, InitParams, ParticleInit, Periodic, RunEnd, Schedule,
-    SimParams, Simulation, Stop, TcModel, Vector, Walls,
+    theory, ConstantRestitution, EventKind, InitParams, ParticleInit, Periodic, Rule, RunEnd,
+    Schedule, SimParams, Simulation, Stop, Vector, Walls,
 };
 
 /// One disk moving at speed 1 between walls 10 apart (contacts 9 apart) whose restitution is 1/2,
@@ -93,7 +93,9 @@ fn large_cooling_gas_runs_to_tau_2000() {
     p.seed = 2;
     let chi = theory::chi(2, 0.1);
     let tc = 1e-4 / theory::collision_frequency(2, 0.1, chi, 1.0, p.temperature, 1.0);
-    let rule = TcModel::new(ConstantRestitution::new(0.6).unwrap(), tc).unwrap();
+    let rule = Rule::new(ConstantRestitution::new(0.6).unwrap())
+        .with_tc(tc)
+        .unwrap();
     let mut sim = p.build::<Periodic, _>(rule).unwrap();
     let ln_t0 = sim.ln_temperature();
     let mut ln_t = Vec::new();

@@ -7,9 +7,8 @@
 //! prints every case.
 
 use edmd_core::{
-    Boundary, Channel, CollisionRule, ConstantRestitution, Container, InitParams, Periodic,
-    RandomRotation, Rough, SimParams, Stop, TcModel, ThesisRestitution, ThresholdRestitution,
-    Viscoelastic, Walls,
+    Boundary, Channel, CollisionRule, ConstantRestitution, Container, InitParams, Law, Periodic,
+    Remedy, Rule, SimParams, Stop, ThesisRestitution, ThresholdRestitution, Viscoelastic, Walls,
 };
 use proptest::prelude::*;
 
@@ -149,18 +148,27 @@ fn check<const D: usize, B: Boundary, R: CollisionRule>(
     Ok(())
 }
 
-/// Wraps the rule in the case's remedy and runs it in the case's scene.
-fn with_remedy<const D: usize, R: CollisionRule<State = ()>>(
+/// The case's remedy on top of `law`, for smooth grains or (`rough`) rough ones: every law ×
+/// remedy × roughness is one [`Rule`].
+fn with_remedy<const D: usize>(
     case: &Case,
-    rule: R,
+    law: impl Into<Law>,
+    rough: bool,
 ) -> Result<(), TestCaseError> {
-    match case.remedy {
-        0 => with_scene::<D, R>(case, rule),
-        1 => with_scene::<D, _>(case, TcModel::new(rule, 1e-4 * case.knob).unwrap()),
-        _ => with_scene::<D, _>(
-            case,
-            RandomRotation::new(rule, case.knob * std::f64::consts::FRAC_PI_2).unwrap(),
-        ),
+    let remedy = match case.remedy {
+        0 => Remedy::None,
+        1 => Remedy::Tc {
+            tc: 1e-4 * case.knob,
+        },
+        _ => Remedy::Rotation {
+            theta_max: case.knob * std::f64::consts::FRAC_PI_2,
+        },
+    };
+    let rule = Rule::new(law).with_remedy(remedy).unwrap();
+    if rough {
+        with_scene::<D, _>(case, rule.rough(case.beta, 0.4 + 0.1 * case.knob).unwrap())
+    } else {
+        with_scene::<D, _>(case, rule)
     }
 }
 
@@ -176,14 +184,16 @@ fn with_scene<const D: usize, R: CollisionRule>(case: &Case, rule: R) -> Result<
 fn run_case<const D: usize>(case: &Case) -> Result<(), TestCaseError> {
     let eps = case.eps;
     match case.rule {
-        0 => with_remedy::<D, _>(case, ConstantRestitution::new(eps).unwrap()),
-        1 => with_remedy::<D, _>(
+        0 => with_remedy::<D>(case, ConstantRestitution::new(eps).unwrap(), false),
+        1 => with_remedy::<D>(
             case,
             ThresholdRestitution::new(eps, 1.0, 0.01 + case.knob).unwrap(),
+            false,
         ),
-        2 => with_remedy::<D, _>(
+        2 => with_remedy::<D>(
             case,
             ThesisRestitution::new(0.5 + 0.5 * eps, 0.1 + case.knob).unwrap(),
+            false,
         ),
         3 => {
             // A damping giving ε at the thermal speed; the series needs ε above ~0.3.
@@ -191,26 +201,10 @@ fn run_case<const D: usize>(case: &Case) -> Result<(), TestCaseError> {
             else {
                 return Ok(());
             };
-            with_remedy::<D, _>(case, v)
+            with_remedy::<D>(case, v, false)
         }
-        _ => {
-            // Rough grains carry spin state; the TC model needs the previous collision's time
-            // instead, so the two do not compose: rough grains take no remedy or the rotation.
-            let rough = Rough::new(
-                ConstantRestitution::new(eps).unwrap(),
-                case.beta,
-                0.4 + 0.1 * case.knob,
-            )
-            .unwrap();
-            if case.remedy == 2 {
-                with_scene::<D, _>(
-                    case,
-                    RandomRotation::new(rough, case.knob * std::f64::consts::FRAC_PI_2).unwrap(),
-                )
-            } else {
-                with_scene::<D, _>(case, rough)
-            }
-        }
+        // Rough grains with any remedy (spin and the TC model's memory live side by side).
+        _ => with_remedy::<D>(case, ConstantRestitution::new(eps).unwrap(), true),
     }
 }
 

@@ -5,8 +5,8 @@
 //! tiny. That is inherent to event-driven dynamics of static packings.)
 
 use edmd_core::{
-    Column, ConstantRestitution, Container, InitParams, ParticleInit, Placement, RunEnd, SimParams,
-    Simulation, Stop, TcModel, Vector,
+    Column, ConstantRestitution, Container, InitParams, ParticleInit, Placement, Rule, RunEnd,
+    SimParams, Simulation, Stop, Vector,
 };
 
 #[test]
@@ -64,11 +64,12 @@ fn inelastic_column_settles_without_stalling() {
         wall_threshold: 0.05,
         ..SimParams::default()
     });
-    let rule = TcModel::new(ConstantRestitution::new(0.8).unwrap(), 0.01).unwrap();
+    let rule = Rule::new(ConstantRestitution::new(0.8).unwrap())
+        .with_tc(0.01)
+        .unwrap();
     let mut sim = p.build::<Column, _>(rule).unwrap();
-    let mean_height = |s: &Simulation<2, Column, TcModel<ConstantRestitution>>| {
-        s.positions().iter().map(|x| x[1]).sum::<f64>() / 1000.0
-    };
+    let mean_height =
+        |s: &Simulation<2, Column, Rule>| s.positions().iter().map(|x| x[1]).sum::<f64>() / 1000.0;
     let (h0, u0) = (mean_height(&sim), sim.potential_energy());
     let start = std::time::Instant::now();
     // Free fall from the top takes √(2·200/g) = 20.

@@ -4,7 +4,7 @@
 
 use edmd_core::{
     Boundary, Channel, CollisionRule, ConstantRestitution, Elastic, InitParams, Periodic,
-    Placement, RandomRotation, RunEnd, SimParams, Simulation, Stop, ThresholdRestitution, Walls,
+    Placement, Rule, RunEnd, SimParams, Simulation, Stop, ThresholdRestitution, Walls,
 };
 
 fn check<const D: usize, B: Boundary, R: CollisionRule>(
@@ -86,19 +86,18 @@ fn strongly_inelastic_gases() {
 #[test]
 fn random_rotation_remedy() {
     let p = InitParams::<2>::with_packing(2000, 0.5).unwrap();
-    let rule = RandomRotation::new(
-        ThresholdRestitution::new(0.5, 1.0, 1e-3).unwrap(),
-        5f64.to_radians(),
-    )
-    .unwrap();
+    let rule = Rule::new(ThresholdRestitution::new(0.5, 1.0, 1e-3).unwrap())
+        .with_rotation(5f64.to_radians())
+        .unwrap();
     check(
         p.build::<Periodic, _>(rule).unwrap(),
         300_000,
         "2D periodic phi=0.5, threshold + rotation",
     );
     let p = InitParams::<3>::with_packing(2000, 0.3).unwrap();
-    let rule =
-        RandomRotation::new(ConstantRestitution::new(0.5).unwrap(), 10f64.to_radians()).unwrap();
+    let rule = Rule::new(ConstantRestitution::new(0.5).unwrap())
+        .with_rotation(10f64.to_radians())
+        .unwrap();
     check(
         p.build::<Walls, _>(rule).unwrap(),
         300_000,

@@ -6,13 +6,14 @@
 //! and ε = β = 1 conserves energy.
 
 use edmd_core::{
-    ConstantRestitution, EventKind, ParticleInit, Periodic, Rough, SimParams, Simulation, Vector,
+    ConstantRestitution, EventKind, ParticleInit, Periodic, Rough, Rule, SimParams, Simulation,
+    Vector,
 };
 
 const R: [f64; 2] = [0.5, 0.7];
 const M: [f64; 2] = [1.0, 1.96];
 
-type Sim<const D: usize> = Simulation<D, Periodic, Rough<ConstantRestitution>>;
+type Sim<const D: usize> = Simulation<D, Periodic, Rule<Rough>>;
 
 fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     [
@@ -65,7 +66,9 @@ fn check<const D: usize>(eps: f64, beta: f64, q: f64, spin0: [[f64; 3]; 2]) {
             mass: M[1],
         },
     ];
-    let rule = Rough::new(ConstantRestitution::new(eps).unwrap(), beta, q).unwrap();
+    let rule = Rule::new(ConstantRestitution::new(eps).unwrap())
+        .rough(beta, q)
+        .unwrap();
     let mut sim =
         Sim::<D>::new(Vector::<D>::repeat(20.0), parts, rule, SimParams::default()).unwrap();
     sim.set_spin(0, spin0[0]);
@@ -164,7 +167,11 @@ fn rough_gases() {
     use edmd_core::{InitParams, Stop};
     let p = InitParams::<2>::with_packing(2000, 0.3).unwrap();
     let mut sim = p
-        .build::<Periodic, _>(Rough::disks(ConstantRestitution::new(1.0).unwrap(), 1.0).unwrap())
+        .build::<Periodic, _>(
+            Rule::new(ConstantRestitution::new(1.0).unwrap())
+                .rough(1.0, 0.5)
+                .unwrap(),
+        )
         .unwrap();
     let e0 = sim.kinetic_energy() + sim.rotational_energy();
     sim.run(Stop::Tau(500.0));
@@ -178,7 +185,11 @@ fn rough_gases() {
     // Equipartition: the rotational degree of freedom takes its share (1/3 in 2D).
     assert!((sim.rotational_energy() / e1 - 1.0 / 3.0).abs() < 0.03);
     let mut sim = p
-        .build::<Periodic, _>(Rough::disks(ConstantRestitution::new(0.7).unwrap(), 0.0).unwrap())
+        .build::<Periodic, _>(
+            Rule::new(ConstantRestitution::new(0.7).unwrap())
+                .rough(0.0, 0.5)
+                .unwrap(),
+        )
         .unwrap();
     sim.run(Stop::Tau(100.0));
     assert!(sim.deepest_overlap().unwrap().2 < 1e-9);

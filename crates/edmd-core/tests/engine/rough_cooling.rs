@@ -17,7 +17,7 @@
 use super::ratio;
 use edmd_core::init::unit_volume;
 use edmd_core::theory::{critical_sizes, haff_rate, RoughCooling, RoughSonine, Transport};
-use edmd_core::{ConstantRestitution, InitParams, Periodic, Rough, Schedule, Stop, Vector};
+use edmd_core::{ConstantRestitution, InitParams, Periodic, Rule, Schedule, Stop, Vector};
 
 const TOLERANCE: f64 = 0.04;
 const PHI: f64 = 0.02;
@@ -60,7 +60,9 @@ fn deviation<const D: usize>(beta: f64, q: f64, fraction: f64) -> (f64, f64, f64
         let mut p = InitParams::<D>::in_box(n, Vector::<D>::repeat(side));
         p.seed = 7000 + seed;
         p.melt_tau = Some(5.0);
-        let rule = Rough::new(ConstantRestitution::new(EPS).unwrap(), beta, q).unwrap();
+        let rule = Rule::new(ConstantRestitution::new(EPS).unwrap())
+            .rough(beta, q)
+            .unwrap();
         let mut sim = p.build::<Periodic, _>(rule).unwrap();
         let mut pairs = Vec::new();
         sim.run_sampled(Stop::Tau(from + WINDOW), &Schedule::every(0.5), |s| {

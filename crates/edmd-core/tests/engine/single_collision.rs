@@ -3,9 +3,8 @@
 //! law's definition at the measured normal speed. Also walls with their own restitution.
 
 use edmd_core::{
-    Boundary, CollisionRule, ConstantRestitution, EventKind, ParticleInit, Periodic,
-    RandomRotation, SimParams, Simulation, ThesisRestitution, ThresholdRestitution, Vector,
-    Viscoelastic, Walls,
+    Boundary, CollisionRule, ConstantRestitution, EventKind, ParticleInit, Periodic, Rule,
+    SimParams, Simulation, ThesisRestitution, ThresholdRestitution, Vector, Viscoelastic, Walls,
 };
 
 /// Two unequal particles on course for an oblique collision, and their velocities.
@@ -172,12 +171,16 @@ fn relative_after<const D: usize, R: CollisionRule>(rule: R, seed: u64) -> Vecto
 fn rotations<const D: usize>() {
     let theta = 10f64.to_radians();
     check::<D, _>(
-        RandomRotation::new(ConstantRestitution::new(0.8).unwrap(), theta).unwrap(),
+        Rule::new(ConstantRestitution::new(0.8).unwrap())
+            .with_rotation(theta)
+            .unwrap(),
         |_, _, _| 0.8,
         "rotation + constant",
     );
     check::<D, _>(
-        RandomRotation::new(ThresholdRestitution::new(0.6, 0.95, 5.0).unwrap(), theta).unwrap(),
+        Rule::new(ThresholdRestitution::new(0.6, 0.95, 5.0).unwrap())
+            .with_rotation(theta)
+            .unwrap(),
         |_, _, _| 0.95,
         "rotation + threshold (thesis)",
     );
@@ -185,7 +188,9 @@ fn rotations<const D: usize>() {
     for seed in 0..20 {
         let g_plain = relative_after::<D, _>(ConstantRestitution::new(0.8).unwrap(), seed);
         let g_rot = relative_after::<D, _>(
-            RandomRotation::new(ConstantRestitution::new(0.8).unwrap(), theta).unwrap(),
+            Rule::new(ConstantRestitution::new(0.8).unwrap())
+                .with_rotation(theta)
+                .unwrap(),
             seed,
         );
         assert!((g_rot.norm() - g_plain.norm()).abs() < 1e-14);

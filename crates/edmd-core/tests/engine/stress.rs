@@ -7,8 +7,8 @@
 use std::time::Instant;
 
 use edmd_core::{
-    Boundary, CollisionRule, ConstantRestitution, Elastic, InitParams, Periodic, RandomRotation,
-    RunEnd, SimParams, Simulation, Stop, TcModel, ThresholdRestitution, Vector,
+    Boundary, CollisionRule, ConstantRestitution, Elastic, InitParams, Periodic, Rule, RunEnd,
+    SimParams, Simulation, Stop, ThresholdRestitution, Vector,
 };
 
 /// The size of a stress case: the short version runs in `cargo test`, the full one is `#[ignore]`d
@@ -197,7 +197,10 @@ fn strongly_inelastic_dense_gas_with_and_without_remedies_case(size: Size) {
         let c = ConstantRestitution::new(eps).unwrap();
         let cases: [(&str, DenseRun); 4] = [
             ("none", dense_inelastic(n, c, tau)),
-            ("TC", dense_inelastic(n, TcModel::new(c, tc).unwrap(), tau)),
+            (
+                "TC",
+                dense_inelastic(n, Rule::new(c).with_tc(tc).unwrap(), tau),
+            ),
             (
                 "threshold",
                 dense_inelastic(n, ThresholdRestitution::new(eps, 1.0, delta).unwrap(), tau),
@@ -206,11 +209,9 @@ fn strongly_inelastic_dense_gas_with_and_without_remedies_case(size: Size) {
                 "threshold+rotation",
                 dense_inelastic(
                     n,
-                    RandomRotation::new(
-                        ThresholdRestitution::new(eps, 1.0, delta).unwrap(),
-                        10f64.to_radians(),
-                    )
-                    .unwrap(),
+                    Rule::new(ThresholdRestitution::new(eps, 1.0, delta).unwrap())
+                        .with_rotation(10f64.to_radians())
+                        .unwrap(),
                     tau,
                 ),
             ),

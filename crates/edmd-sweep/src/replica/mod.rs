@@ -1,12 +1,12 @@
-//! Running one replica: build the scene, rule and remedy as monomorphised types, run to the stop
-//! condition, and collect the observables and snapshots in memory.
+//! Running one replica: build the scene as a type and the rule (law, remedy, grains) as data, run to
+//! the stop condition, and collect the observables and snapshots in memory.
 
 use std::time::Instant;
 
 use edmd_core::theory::haff_rate;
 use edmd_core::{
-    Boundary, Channel, CollisionRule, Column, ConstantRestitution, Container, EdmdError, Periodic,
-    RandomRotation, Rough, TcModel, ThesisRestitution, ThresholdRestitution, Walls,
+    Boundary, Channel, Column, ConstantRestitution, Container, EdmdError, Law, Periodic,
+    Remedy as CoreRemedy, Rule, ThesisRestitution, ThresholdRestitution, Walls,
 };
 
 use crate::classify::{critical_box_sides, Class, Classification, OrderSeries, Theory};
@@ -157,16 +157,49 @@ pub fn run(spec: &Spec, r: &Replica, progress: &(dyn Fn(u64) + Sync)) -> Outcome
     outcome
 }
 
+/// The replica's collision rule: its law and remedy as data ([`Rule`]), the same for every scene.
+fn rule(spec: &Spec, r: &Replica) -> Result<Rule, EdmdError> {
+    let law: Law = match spec.rule {
+        RuleSpec::Constant {} => ConstantRestitution::new(r.eps)?.into(),
+        RuleSpec::Threshold { delta, eps_low } => {
+            ThresholdRestitution::new(r.eps, eps_low, delta)?.into()
+        }
+        RuleSpec::Thesis { v0 } => ThesisRestitution::new(r.eps, v0)?.into(),
+        RuleSpec::Viscoelastic { speed } => viscoelastic(r.eps, speed)?.into(),
+    };
+    if r.gravity > 0.0
+        && !(matches!(spec.rule, RuleSpec::Constant {})
+            && matches!(r.remedy, Remedy::None {} | Remedy::Tc { .. }))
+    {
+        // Checked by the spec; kept here for a replica built by hand.
+        return Err(EdmdError::invalid(
+            "gravity",
+            r.gravity,
+            "runs with rule constant and remedy none or tc only",
+        ));
+    }
+    Rule::new(law).with_remedy(match r.remedy {
+        Remedy::None {} => CoreRemedy::None,
+        Remedy::Tc { tc } => CoreRemedy::Tc { tc },
+        Remedy::Rotation { theta_max_deg } => CoreRemedy::Rotation {
+            theta_max: theta_max_deg.to_radians(),
+        },
+    })
+}
+
+/// The scene's geometry as a type: the one choice, with the grains' kind, that the event loop is
+/// compiled for.
 fn by_boundary<const D: usize>(
     spec: &Spec,
     r: &Replica,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<Outcome, EdmdError> {
+    let rule = rule(spec, r)?;
     if r.gravity > 0.0 {
         // Gravity pulls towards the floor of the last axis: walls there (checked in the spec).
         return match r.boundary {
-            BoundaryKind::Walls => by_gravity::<D, Container>(spec, r, progress),
-            BoundaryKind::Channel => by_gravity::<D, Column>(spec, r, progress),
+            BoundaryKind::Walls => by_grain::<D, Container>(spec, r, rule, progress),
+            BoundaryKind::Channel => by_grain::<D, Column>(spec, r, rule, progress),
             BoundaryKind::Periodic => Err(EdmdError::invalid(
                 "gravity",
                 r.gravity,
@@ -175,88 +208,23 @@ fn by_boundary<const D: usize>(
         };
     }
     match r.boundary {
-        BoundaryKind::Periodic => by_rule::<D, Periodic>(spec, r, progress),
-        BoundaryKind::Walls => by_rule::<D, Walls>(spec, r, progress),
-        BoundaryKind::Channel => by_rule::<D, Channel>(spec, r, progress),
+        BoundaryKind::Periodic => by_grain::<D, Periodic>(spec, r, rule, progress),
+        BoundaryKind::Walls => by_grain::<D, Walls>(spec, r, rule, progress),
+        BoundaryKind::Channel => by_grain::<D, Channel>(spec, r, rule, progress),
     }
 }
 
-/// Gravity scenes run constant restitution with remedy none or TC (the spec checks it): that keeps
-/// the number of compiled scene × rule × remedy combinations small.
-fn by_gravity<const D: usize, B: Boundary>(
+/// Smooth grains run the rule as it is; rough ones (β > −1) carry spin.
+fn by_grain<const D: usize, B: Boundary>(
     spec: &Spec,
     r: &Replica,
-    progress: &(dyn Fn(u64) + Sync),
-) -> Result<Outcome, EdmdError> {
-    let rule = ConstantRestitution::new(r.eps)?;
-    match (&spec.rule, r.remedy) {
-        (RuleSpec::Constant {}, Remedy::None {}) => {
-            by_roughness::<D, B, _>(spec, r, rule, progress)
-        }
-        (RuleSpec::Constant {}, Remedy::Tc { tc }) => {
-            by_roughness::<D, B, _>(spec, r, TcModel::new(rule, tc)?, progress)
-        }
-        _ => Err(EdmdError::invalid(
-            "gravity",
-            r.gravity,
-            "runs with rule constant and remedy none or tc only",
-        )),
-    }
-}
-
-fn by_rule<const D: usize, B: Boundary>(
-    spec: &Spec,
-    r: &Replica,
-    progress: &(dyn Fn(u64) + Sync),
-) -> Result<Outcome, EdmdError> {
-    match spec.rule {
-        RuleSpec::Constant {} => {
-            by_remedy::<D, B, _>(spec, r, ConstantRestitution::new(r.eps)?, progress)
-        }
-        RuleSpec::Threshold { delta, eps_low } => by_remedy::<D, B, _>(
-            spec,
-            r,
-            ThresholdRestitution::new(r.eps, eps_low, delta)?,
-            progress,
-        ),
-        RuleSpec::Thesis { v0 } => {
-            by_remedy::<D, B, _>(spec, r, ThesisRestitution::new(r.eps, v0)?, progress)
-        }
-        RuleSpec::Viscoelastic { speed } => {
-            by_remedy::<D, B, _>(spec, r, viscoelastic(r.eps, speed)?, progress)
-        }
-    }
-}
-
-fn by_remedy<const D: usize, B: Boundary, R: CollisionRule<State = ()>>(
-    spec: &Spec,
-    r: &Replica,
-    rule: R,
-    progress: &(dyn Fn(u64) + Sync),
-) -> Result<Outcome, EdmdError> {
-    match r.remedy {
-        Remedy::None {} => by_roughness::<D, B, R>(spec, r, rule, progress),
-        Remedy::Tc { tc } => by_roughness::<D, B, _>(spec, r, TcModel::new(rule, tc)?, progress),
-        Remedy::Rotation { theta_max_deg } => by_roughness::<D, B, _>(
-            spec,
-            r,
-            RandomRotation::new(rule, theta_max_deg.to_radians())?,
-            progress,
-        ),
-    }
-}
-
-/// Smooth grains run the rule as it is; rough ones (β > −1) wrap it in [`Rough`], which carries spin.
-fn by_roughness<const D: usize, B: Boundary, R: CollisionRule>(
-    spec: &Spec,
-    r: &Replica,
-    rule: R,
+    rule: Rule,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<Outcome, EdmdError> {
     if r.rough() {
-        simulate::<D, B, _>(spec, r, Rough::new(rule, r.beta, r.inertia)?, progress)
+        simulate::<D, B, _>(spec, r, rule.rough(r.beta, r.inertia)?, progress)
     } else {
-        simulate::<D, B, R>(spec, r, rule, progress)
+        simulate::<D, B, _>(spec, r, rule, progress)
     }
 }
 

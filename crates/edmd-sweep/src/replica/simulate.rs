@@ -3,8 +3,8 @@
 
 use edmd_core::theory::haff_temperature_tau;
 use edmd_core::{
-    order_parameters, Boundary, CollisionRule, Counters, EdmdError, InitParams, RunEnd, Schedule,
-    SimParams, Simulation, Stop, Vector, Velocities, VirialMeter,
+    order_parameters, Boundary, CollisionRule, Counters, EdmdError, Engine, InitParams, RunEnd,
+    Schedule, SimParams, Simulation, Stop, Vector, Velocities, VirialMeter,
 };
 
 use super::{theory, Outcome, Series, Snapshot, Status};
@@ -26,8 +26,8 @@ fn flat<const D: usize>(v: &[Vector<D>]) -> Vec<f64> {
 }
 
 /// Angular velocities of rough grains, N × 1 (ω_z) in 2D and N × 3 in 3D; empty for smooth grains.
-fn spins<const D: usize, B: Boundary, R: CollisionRule>(sim: &Simulation<D, B, R>) -> Vec<f64> {
-    if !R::ROUGH {
+fn spins<const D: usize>(sim: &dyn Engine<D>) -> Vec<f64> {
+    if !sim.rough() {
         return Vec::new();
     }
     let w = sim.spins();
@@ -47,12 +47,22 @@ const fn rotational_dof(d: usize) -> f64 {
     }
 }
 
+/// Runs replica `r` in the scene `B` with `rule`: the only part compiled per scene and grain kind
+/// is building the simulation; the run itself is [`drive`], compiled once per dimension.
 pub(super) fn simulate<const D: usize, B: Boundary, R: CollisionRule>(
     spec: &Spec,
     r: &Replica,
     rule: R,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<Outcome, EdmdError> {
+    let (p, species_of) = init_params::<D>(spec, r);
+    let mut sim: Simulation<D, B, R> = p.build::<B, R>(rule)?;
+    drive(spec, r, &p, &species_of, &mut sim, progress)
+}
+
+/// The set-up of replica `r`: box, seed, velocities, species (and the species of each slot), walls,
+/// gravity and floor.
+fn init_params<const D: usize>(spec: &Spec, r: &Replica) -> (InitParams<D>, Vec<usize>) {
     let sides = r.sides();
     let mut p = InitParams::<D>::in_box(r.n, Vector::<D>::from_fn(|a, _| sides[a]));
     p.seed = r.seed;
@@ -72,7 +82,6 @@ pub(super) fn simulate<const D: usize, B: Boundary, R: CollisionRule>(
         p.radii = Some(species_of.iter().map(|&k| 0.5 * m[k].diameter).collect());
         p.masses = Some(species_of.iter().map(|&k| m[k].mass_in(D)).collect());
     }
-    let counts = r.species_counts();
     // Walls, gravity and a thermal floor of the scene (PHYSICS.md §1.4).
     if r.gravity > 0.0 || r.wall_eps != 1.0 || r.floor_temperature > 0.0 {
         p.sim = Some(SimParams {
@@ -82,7 +91,22 @@ pub(super) fn simulate<const D: usize, B: Boundary, R: CollisionRule>(
             ..p.default_sim_params()
         });
     }
-    let mut sim: Simulation<D, B, R> = p.build::<B, R>(rule)?;
+    (p, species_of)
+}
+
+/// Melts, cools to the stop, samples observables and order parameters on the schedule, keeps the
+/// snapshots, watches for collapse and stalls, and classifies: the whole run of a replica against
+/// the object-safe [`Engine`].
+fn drive<const D: usize>(
+    spec: &Spec,
+    r: &Replica,
+    p: &InitParams<D>,
+    species_of: &[usize],
+    sim: &mut dyn Engine<D>,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<Outcome, EdmdError> {
+    let sides = r.sides();
+    let counts = r.species_counts();
     let t0 = sim.temperature();
     let n = r.n as f64;
     let volume = sim.box_len().iter().product::<f64>();
@@ -132,7 +156,7 @@ pub(super) fn simulate<const D: usize, B: Boundary, R: CollisionRule>(
     let mut reported = 0u64;
     let mut sampled_at: Option<u64> = None;
 
-    let sample = |sim: &Simulation<D, B, R>,
+    let sample = |sim: &dyn Engine<D>,
                   series: &mut Series,
                   snapshots: &mut Vec<Snapshot>,
                   meter: &mut Option<VirialMeter>,
@@ -175,7 +199,7 @@ pub(super) fn simulate<const D: usize, B: Boundary, R: CollisionRule>(
         if r.species.is_some() {
             // T_k = Σ_{a∈k} m v_a² / (d N_k), species in order.
             let mut e = vec![0.0; counts.len()];
-            for ((v, m), &k) in sim.velocities().iter().zip(&masses).zip(&species_of) {
+            for ((v, m), &k) in sim.velocities().iter().zip(&masses).zip(species_of) {
                 e[k] += m * v.norm_squared();
             }
             series.species_temperature.push(
@@ -185,7 +209,7 @@ pub(super) fn simulate<const D: usize, B: Boundary, R: CollisionRule>(
                     .collect(),
             );
         }
-        if R::ROUGH {
+        if sim.rough() {
             // T_rot = Σ I ω² / (d_rot N) (PHYSICS.md §6.5), beside the translational T.
             series
                 .rotational_temperature
@@ -199,7 +223,7 @@ pub(super) fn simulate<const D: usize, B: Boundary, R: CollisionRule>(
         if let Some(grid) = grid {
             let mut walls = [false; D];
             for (a, w) in walls.iter_mut().enumerate() {
-                *w = B::WALL_MASK & (1 << a) != 0;
+                *w = sim.has_walls(a);
             }
             let op = order_parameters(
                 &sim.positions(),
@@ -264,7 +288,7 @@ pub(super) fn simulate<const D: usize, B: Boundary, R: CollisionRule>(
             break;
         }
         let snap = next_snapshot.is_some_and(|t| same_point(t, point));
-        sample(&sim, &mut series, &mut snapshots, &mut meter, snap);
+        sample(&*sim, &mut series, &mut snapshots, &mut meter, snap);
         if snap {
             next_snapshot = after(&snapshot_times, point, spec.stop.tau_max);
         }
@@ -293,7 +317,7 @@ pub(super) fn simulate<const D: usize, B: Boundary, R: CollisionRule>(
     let final_snapshot = spec.snapshots.last;
     if sampled_at != Some(c) {
         sample(
-            &sim,
+            &*sim,
             &mut series,
             &mut snapshots,
             &mut meter,
@@ -305,7 +329,7 @@ pub(super) fn simulate<const D: usize, B: Boundary, R: CollisionRule>(
             time: sim.time(),
             position: flat(&sim.positions()),
             velocity: flat(&sim.velocities()),
-            angular_velocity: spins(&sim),
+            angular_velocity: spins(&*sim),
         });
     }
     let (status, message, collapse) = match end {

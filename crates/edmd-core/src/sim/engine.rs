@@ -1,0 +1,114 @@
+//! [`Engine`]: what a driver of a run asks of a simulation, as an object-safe trait.
+//!
+//! The event loop is generic over the scene, the rule's grain kind and the calendar, and is
+//! compiled once per combination. Everything around it (set-up, sampling on a schedule,
+//! classification, output) needs only this small interface, so it is written once against
+//! `&mut dyn Engine<D>` and compiled once per dimension: a facade over a small generic core.
+
+use super::{Collapse, Counters, RunEnd, Simulation, Stop};
+use crate::calendar::Calendar;
+use crate::observe::Observables;
+use crate::{Boundary, CollisionRule, Vector};
+
+/// A running simulation in `D` dimensions, whatever its scene, rule and calendar.
+pub trait Engine<const D: usize>: Send {
+    /// Runs until `stop` (see [`Simulation::run`]).
+    fn run(&mut self, stop: Stop) -> RunEnd;
+    /// All bulk observables now.
+    fn observe(&self) -> Observables<D>;
+    /// Event counters.
+    fn counters(&self) -> &Counters;
+    /// Physical time.
+    fn time(&self) -> f64;
+    /// τ = C/N.
+    fn tau(&self) -> f64;
+    /// Particles.
+    fn len(&self) -> usize;
+    /// True without particles (a simulation always has some).
+    fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+    /// Granular temperature (physical units).
+    fn temperature(&self) -> f64;
+    /// ln T, finite however deep the cooling.
+    fn ln_temperature(&self) -> f64;
+    /// Box sides.
+    fn box_len(&self) -> &Vector<D>;
+    /// Masses, in the original particle order.
+    fn masses(&self) -> Vec<f64>;
+    /// Positions now, in the original particle order, wrapped into the box.
+    fn positions(&self) -> Vec<Vector<D>>;
+    /// Physical velocities now, in the original particle order.
+    fn velocities(&self) -> Vec<Vector<D>>;
+    /// Velocities in the simulation's own units (ratios and directions only).
+    fn velocities_internal(&self) -> Vec<Vector<D>>;
+    /// True for rough grains (they carry spin).
+    fn rough(&self) -> bool;
+    /// Angular velocities, in the original particle order (zero for smooth grains).
+    fn spins(&self) -> Vec<[f64; 3]>;
+    /// Rotational kinetic energy (0 for smooth grains).
+    fn rotational_energy(&self) -> f64;
+    /// Whether axis `a` has walls.
+    fn has_walls(&self, a: usize) -> bool;
+    /// The inelastic collapse detected so far.
+    fn collapse(&self) -> Option<Collapse>;
+}
+
+impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar + Send> Engine<D>
+    for Simulation<D, B, R, C>
+{
+    fn run(&mut self, stop: Stop) -> RunEnd {
+        Simulation::run(self, stop)
+    }
+    fn observe(&self) -> Observables<D> {
+        Simulation::observe(self)
+    }
+    fn counters(&self) -> &Counters {
+        Simulation::counters(self)
+    }
+    fn time(&self) -> f64 {
+        Simulation::time(self)
+    }
+    fn tau(&self) -> f64 {
+        Simulation::tau(self)
+    }
+    fn len(&self) -> usize {
+        Simulation::len(self)
+    }
+    fn temperature(&self) -> f64 {
+        Simulation::temperature(self)
+    }
+    fn ln_temperature(&self) -> f64 {
+        Simulation::ln_temperature(self)
+    }
+    fn box_len(&self) -> &Vector<D> {
+        Simulation::box_len(self)
+    }
+    fn masses(&self) -> Vec<f64> {
+        Simulation::masses(self)
+    }
+    fn positions(&self) -> Vec<Vector<D>> {
+        Simulation::positions(self)
+    }
+    fn velocities(&self) -> Vec<Vector<D>> {
+        Simulation::velocities(self)
+    }
+    fn velocities_internal(&self) -> Vec<Vector<D>> {
+        Simulation::velocities_internal(self)
+    }
+    fn rough(&self) -> bool {
+        R::ROUGH
+    }
+    fn spins(&self) -> Vec<[f64; 3]> {
+        Simulation::spins(self)
+    }
+    fn rotational_energy(&self) -> f64 {
+        Simulation::rotational_energy(self)
+    }
+    fn has_walls(&self, a: usize) -> bool {
+        B::WALL_MASK & (1 << a) != 0
+    }
+    fn collapse(&self) -> Option<Collapse> {
+        Simulation::collapse(self)
+    }
+}
