@@ -43,13 +43,20 @@ def main(argv=None) -> int:
         else:
             if args.fps <= 0:
                 raise ValueError(f"--fps {args.fps:g}: must be positive")
+            if args.dpi <= 0:
+                raise ValueError(f"--dpi {args.dpi}: must be a positive number of pixels per inch")
             if args.max_frames is not None and args.max_frames < 2:
                 raise ValueError(f"--max-frames {args.max_frames}: a movie needs at least 2")
             for path in movie(args.out, args.replica, args.output, fps=args.fps, colour=args.colour,
                               arrows=args.arrows, dpi=args.dpi, max_frames=args.max_frames):
                 print(f"movie: {path}")
-    except (FileNotFoundError, ValueError, KeyError) as e:
+    except (ValueError, KeyError) as e:
         print(f"error: {e}", file=sys.stderr)
+        return 1
+    except OSError as e:
+        # A read-only or missing output, a file where a directory belongs: one line, no traceback.
+        where = f"{e.filename}: " if e.filename else ""
+        print(f"error: {where}{e.strerror or e}", file=sys.stderr)
         return 1
     return 0
 

@@ -111,7 +111,38 @@ def read_index(out) -> Index:
             if data.dtype.kind == "O":
                 data = np.array([_str(x) for x in data])
             columns[name] = data
-        return Index(path, _str(f.attrs["sweep_name"]), json.loads(_str(f.attrs["spec"])), columns)
+        spec_hash = _str(f.attrs["spec_hash"]) if "spec_hash" in f.attrs else None
+        index = Index(path, _str(f.attrs["sweep_name"]), json.loads(_str(f.attrs["spec"])), columns)
+    if spec_hash is not None:
+        _mark_foreign(index, spec_hash)
+    return index
+
+
+# The statuses of replicas that have a file (edmd's `Status::has_file`).
+WITH_FILE = ("done", "collapsed", "stalled", "failed")
+
+
+def _mark_foreign(index: Index, spec_hash: str) -> None:
+    """Marks `corrupt`, as `edmd status` does, every replica whose file is now missing, unreadable
+    or written by another spec (its /parameters spec_hash differs from the index's): such a file is
+    not a result of this sweep, and readers must not draw it."""
+    status = index.columns["status"].astype(object)
+    message = index.columns.get("message", np.array([""] * len(index))).astype(object)
+    for i in range(len(index)):
+        if status[i] not in WITH_FILE:
+            continue
+        path = index.replica_path(i)
+        try:
+            with h5py.File(path, "r") as f:
+                theirs = _str(f["parameters"].attrs.get("spec_hash", b""))
+        except (OSError, KeyError):
+            status[i], message[i] = "corrupt", f"{path}: missing or unreadable"
+            continue
+        if theirs != spec_hash:
+            status[i] = "corrupt"
+            message[i] = f"written by a different spec (hash {theirs}, expected {spec_hash})"
+    index.columns["status"] = np.array(status, dtype=str)
+    index.columns["message"] = np.array(message, dtype=str)
 
 
 @dataclass

@@ -49,7 +49,7 @@ def pick_replica(out) -> int:
     index = io.read_index(out)
     best, most = None, 1
     for i in range(len(index)):
-        if index["status"][i] in ("failed", "missing"):
+        if index["status"][i] in ("failed", "missing", "corrupt"):
             continue
         path = index.replica_path(i)
         if not path.exists():

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import html
 import json
+import shutil
 from pathlib import Path
 
 import matplotlib
@@ -37,7 +38,7 @@ def _first_seed_per_point(index: io.Index, max_points: int):
     seen, chosen = set(), []
     for i in range(len(index)):
         key = tuple(index[c][i] for c in POINT_COLUMNS if c in index.columns)
-        if key in seen or index["status"][i] == "failed" or index["status"][i] == "missing":
+        if key in seen or index["status"][i] in ("failed", "missing", "corrupt"):
             continue
         seen.add(key)
         chosen.append(i)
@@ -139,7 +140,7 @@ def _movies(index: io.Index, dest: Path, saved: list, max_frames: int = 40):
     wanted = [c for c in MOVIE_CLASSES if c in classes] or [None]
     for c in wanted:
         for i in range(len(index)):
-            if (c is not None and classes[i] != c) or index["status"][i] in ("failed", "missing"):
+            if (c is not None and classes[i] != c) or index["status"][i] in ("failed", "missing", "corrupt"):
                 continue
             path = index.replica_path(i)
             try:
@@ -157,8 +158,22 @@ def report(out, dest, max_points: int = 24, movies: bool = True) -> Path:
     """Writes the report of the sweep in ``out`` into ``dest``; returns the path of index.html.
     ``movies=False`` skips the movies (one per class)."""
     out, dest = Path(out), Path(dest)
-    dest.mkdir(parents=True, exist_ok=True)
+    if not out.is_dir():
+        raise ValueError(f"{out}: not a sweep output directory (edmd run -o OUT)")
     index = io.read_index(out)
+    created = not dest.exists()
+    try:
+        dest.mkdir(parents=True, exist_ok=True)
+        return _write_report(out, dest, index, max_points, movies)
+    except BaseException:
+        # A report that failed leaves no empty or half-written directory of its own making.
+        if created and dest.is_dir():
+            shutil.rmtree(dest, ignore_errors=True)
+        raise
+
+
+def _write_report(out: Path, dest: Path, index, max_points: int, movies: bool) -> Path:
+    """The body of :func:`report`, into the existing directory ``dest``."""
     phase_path = out / "phase.json"
     rows = json.loads(phase_path.read_text()) if phase_path.exists() else []
     chosen = _first_seed_per_point(index, max_points)

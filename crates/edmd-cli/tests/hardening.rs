@@ -39,9 +39,34 @@ impl<'a> Tmpfs<'a> {
     }
 }
 
+/// Whether a file system is mounted at `dir` (by /proc/self/mounts).
+fn mounted(dir: &Path) -> bool {
+    let dir = std::fs::canonicalize(dir).unwrap_or_else(|_| dir.to_path_buf());
+    std::fs::read_to_string("/proc/self/mounts")
+        .unwrap_or_default()
+        .lines()
+        .any(|l| l.split(' ').nth(1) == Some(dir.to_str().unwrap_or_default()))
+}
+
 impl Drop for Tmpfs<'_> {
+    /// Unmounts, detaching lazily when something still holds the file system (the memory is freed
+    /// when the last holder lets go), and checks that the mount is gone: a test must not leave RAM
+    /// mounted on the machine that ran it.
     fn drop(&mut self) {
-        let _ = Command::new("umount").arg(self.0).status();
+        let umount = |lazy: bool| {
+            let mut c = Command::new("umount");
+            if lazy {
+                c.arg("-l");
+            }
+            c.arg(self.0)
+                .stderr(Stdio::null())
+                .status()
+                .is_ok_and(|s| s.success())
+        };
+        let _ = umount(false) || umount(true);
+        if mounted(self.0) && !std::thread::panicking() {
+            panic!("the test's tmpfs is still mounted at {}", self.0.display());
+        }
     }
 }
 
@@ -104,6 +129,8 @@ fn a_full_disk_leaves_no_corrupt_final_file() {
     let r = run(&["run", spec, "-o", reference.to_str().unwrap(), "-q"]);
     assert!(r.status.success(), "{}", stderr(&r));
     assert_same_output(&out, &reference);
+    drop(fs);
+    assert!(!mounted(&mnt), "tmpfs left mounted at {}", mnt.display());
 }
 
 /// Final files that are truncated, zeroed, random or of another spec are reported by `status` (exit

@@ -25,7 +25,7 @@ mod tests;
 pub use rule::{Grain, LastCollision, Law, Remedy, Rough, Rule, Smooth, Spin};
 pub use rules::{
     ConstantRestitution, ThesisRestitution, ThresholdRestitution, Viscoelastic, VISCOELASTIC_C1,
-    VISCOELASTIC_C2,
+    VISCOELASTIC_C2, VISCOELASTIC_EPS_MIN, VISCOELASTIC_X_MAX,
 };
 
 /// A normal-restitution law.

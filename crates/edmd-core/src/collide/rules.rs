@@ -107,11 +107,20 @@ impl CollisionRule for ThesisRestitution {
 pub const VISCOELASTIC_C1: f64 = 1.153_448_858_095_288_4;
 /// `C₂ = (3/5) C₁²`.
 pub const VISCOELASTIC_C2: f64 = 0.6 * VISCOELASTIC_C1 * VISCOELASTIC_C1;
+/// Where the two-term series `1 − C₁x + C₂x²` has its minimum, `x* = C₁/(2C₂) = 1/(1.2 C₁)`:
+/// beyond it the series rises back towards 1, which the true ε(g) never does.
+pub const VISCOELASTIC_X_MAX: f64 = VISCOELASTIC_C1 / (2.0 * VISCOELASTIC_C2);
+/// The series' value at [`VISCOELASTIC_X_MAX`], `1 − C₁²/(4C₂) = 7/12`: the smallest ε it gives.
+pub const VISCOELASTIC_EPS_MIN: f64 =
+    1.0 - VISCOELASTIC_C1 * VISCOELASTIC_C1 / (4.0 * VISCOELASTIC_C2);
 
 /// Viscoelastic spheres (Schwager & Pöschel 1998; Ramírez et al. 1999): contact force
 /// `F = ρ_H (ξ^{3/2} + (3/2) A ξ^{1/2} ξ̇)` with `ρ_H = 2Y√R_eff / (3(1 − ν²))`, giving
-/// `ε(g) = 1 − C₁ A κ^{2/5} g^{1/5} + C₂ A² κ^{4/5} g^{2/5}` with `κ = (3/2)^{5/2} ρ_H / m_eff`,
-/// clamped to [0, 1] (the two-term series holds for `A κ^{2/5} g^{1/5} ≪ 1`).
+/// `ε(g) = 1 − C₁ A κ^{2/5} g^{1/5} + C₂ A² κ^{4/5} g^{2/5}` with `κ = (3/2)^{5/2} ρ_H / m_eff`.
+/// The two-term series holds for `x = A κ^{2/5} g^{1/5} ≪ 1`; past its minimum at
+/// `x* =` [`VISCOELASTIC_X_MAX`] it would rise back to 1, so ε is held at the minimum
+/// ([`VISCOELASTIC_EPS_MIN`]) there: the law never increases with speed. Sweeps refuse a damping
+/// whose series ends below the impact speeds a run meets ([`Viscoelastic::series_limit`]).
 #[derive(Debug, Clone, Copy)]
 pub struct Viscoelastic {
     /// `2Y/(3(1 − ν²))`, so that `ρ_H = stiffness √R_eff`.
@@ -184,6 +193,12 @@ impl Viscoelastic {
     pub fn damping(&self) -> f64 {
         self.damping
     }
+
+    /// The largest normal speed at which the two-term series still decreases, for a pair of
+    /// reduced mass `m_eff` and reduced radius `r_eff`: `(x*/(A κ^{2/5}))^5` (∞ without damping).
+    pub fn series_limit(&self, m_eff: f64, r_eff: f64) -> f64 {
+        (VISCOELASTIC_X_MAX / (self.damping * self.kappa(m_eff, r_eff).powf(0.4))).powi(5)
+    }
 }
 
 impl CollisionRule for Viscoelastic {
@@ -192,6 +207,10 @@ impl CollisionRule for Viscoelastic {
     #[inline]
     fn restitution(&self, vn: f64, m_eff: f64, r_eff: f64) -> f64 {
         let x = self.damping * self.kappa(m_eff, r_eff).powf(0.4) * vn.powf(0.2);
-        (1.0 - VISCOELASTIC_C1 * x + VISCOELASTIC_C2 * x * x).clamp(0.0, 1.0)
+        if x >= VISCOELASTIC_X_MAX {
+            VISCOELASTIC_EPS_MIN
+        } else {
+            (1.0 - VISCOELASTIC_C1 * x + VISCOELASTIC_C2 * x * x).min(1.0)
+        }
     }
 }

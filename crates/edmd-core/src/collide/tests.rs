@@ -190,3 +190,35 @@ fn every_law_and_remedy_keeps_rough_grains_rough() {
     const { assert!(<Rule<Rough> as CollisionRule>::ROUGH) };
     const { assert!(!<Rule as CollisionRule>::ROUGH) };
 }
+
+proptest::proptest! {
+    /// Viscoelastic ε(g) never increases with the impact speed, over 24 decades of speed and any
+    /// damping and pair (the two-term series alone rose back to 1 past its minimum).
+    #[test]
+    fn viscoelastic_restitution_never_rises_with_speed(
+        log_a in -8.0f64..1.0,
+        log_g in -12.0f64..12.0,
+        step in 1e-6f64..3.0,
+        m_eff in 0.01f64..10.0,
+        r_eff in 0.05f64..2.0,
+    ) {
+        let rule = Viscoelastic::from_material(1.0, 0.3, 10f64.powf(log_a)).unwrap();
+        let (g, faster) = (10f64.powf(log_g), 10f64.powf(log_g + step));
+        let (e, f) = (rule.restitution(g, m_eff, r_eff), rule.restitution(faster, m_eff, r_eff));
+        proptest::prop_assert!(f <= e, "eps({faster}) = {f} > eps({g}) = {e}");
+        proptest::prop_assert!((VISCOELASTIC_EPS_MIN..=1.0).contains(&e));
+    }
+}
+
+#[test]
+fn viscoelastic_series_limit_is_where_the_series_turns() {
+    use super::rules::VISCOELASTIC_X_MAX;
+    let rule = Viscoelastic::from_reference(0.9, 1.0, 0.5, 0.25, 1.0, 0.3).unwrap();
+    let g = rule.series_limit(0.5, 0.25);
+    // x(g) = x* exactly, and the series' own slope vanishes there.
+    let x = rule.damping() * rule.kappa(0.5, 0.25).powf(0.4) * g.powf(0.2);
+    assert!((x / VISCOELASTIC_X_MAX - 1.0).abs() < 1e-12, "{x}");
+    assert!((VISCOELASTIC_EPS_MIN - 7.0 / 12.0).abs() < 1e-12);
+    let below = rule.restitution(0.999 * g, 0.5, 0.25);
+    assert!(below > VISCOELASTIC_EPS_MIN && below - VISCOELASTIC_EPS_MIN < 1e-6);
+}

@@ -13,6 +13,7 @@ use crate::SweepError;
 mod boundary;
 mod check;
 mod check_scene;
+mod dup_keys;
 mod expand;
 mod one_or_many;
 mod sampling;
@@ -377,6 +378,7 @@ impl Spec {
                 "the file is larger than {MAX_SPEC_BYTES} bytes, the most a spec may hold (a spec is a few hundred bytes of JSON)"
             )));
         }
+        dup_keys::check(text).map_err(SweepError::Spec)?;
         let mut de = serde_json::Deserializer::from_str(text);
         let spec: Spec = serde_path_to_error::deserialize(&mut de).map_err(|e| {
             let mut path = e.path().to_string();
