@@ -197,3 +197,57 @@ fn a_clock_stall_in_the_last_window_is_seen() {
         "the stall is found where it is, whatever the stop"
     );
 }
+
+/// With N = 3 and 50 log samples per decade from τ 0.01, many schedule points fall on one pair
+/// collision. Each collision is sampled once: the steps rise strictly, and the compressibility is
+/// NaN only at the first sample (before that, repeated samples read the virial over no time: NaN).
+#[test]
+fn schedule_points_on_one_collision_give_one_sample() {
+    let tmp = tempfile::tempdir().unwrap();
+    let spec = write(
+        tmp.path(),
+        "few.json",
+        r#"{"name": "few", "seed": 2,
+            "grid": {"dim": 2, "eps": 0.9, "phi": 0.1, "n": 3},
+            "stop": {"tau_max": 20},
+            "samples": {"every": 1, "per_decade": 50, "log_from": 0.01},
+            "snapshots": {"at": [0.01, 0.011, 5], "final": true}}"#,
+    );
+    let out = tmp.path().join("out");
+    let o = run(&[
+        "run",
+        spec.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "-q",
+    ]);
+    assert!(o.status.code().is_some_and(|c| c <= 2), "{}", stderr(&o));
+    let f = hdf5::File::open(out.join("replicas/r00000.h5")).unwrap();
+    let step: Vec<i64> = f
+        .dataset("observables/compressibility/step")
+        .unwrap()
+        .read_raw()
+        .unwrap();
+    let z: Vec<f64> = f
+        .dataset("observables/compressibility/value")
+        .unwrap()
+        .read_raw()
+        .unwrap();
+    assert!(step.len() > 10, "{step:?}");
+    assert!(
+        step.windows(2).all(|w| w[0] < w[1]),
+        "repeated samples: {step:?}"
+    );
+    assert!(z[0].is_nan());
+    let nan: Vec<usize> = (1..z.len()).filter(|&k| z[k].is_nan()).collect();
+    assert!(nan.is_empty(), "NaN at samples {nan:?} of {}", z.len());
+    let snap: Vec<i64> = f
+        .dataset("particles/gas/position/step")
+        .unwrap()
+        .read_raw()
+        .unwrap();
+    assert!(
+        snap.windows(2).all(|w| w[0] < w[1]),
+        "repeated snapshots: {snap:?}"
+    );
+}

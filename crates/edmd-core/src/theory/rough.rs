@@ -64,9 +64,13 @@ impl RoughCooling {
         let (d, q, eta) = (self.d as f64, self.q, self.eta());
         let k = 2.0 * (d - 1.0);
         let f = self.momentum_factor;
-        let a = 1.0 - self.eps * self.eps + k * eta * (1.0 - eta);
-        let b = k * eta * eta / q;
-        let c = k * (eta / q) * (1.0 - eta / q);
+        // η/q and 1 − η/q = ((1 − β) + 2q)/(2(1 + q)) written without differences of near-equal
+        // numbers, which lose every digit of q when q is small (and with them R/T).
+        let eta_q = (1.0 + self.beta) / (2.0 * (1.0 + q));
+        let rest_q = ((1.0 - self.beta) + 2.0 * q) / (2.0 * (1.0 + q));
+        let a = (1.0 - self.eps) * (1.0 + self.eps) + k * eta * (1.0 - eta);
+        let b = k * eta * eta_q;
+        let c = k * eta_q * rest_q;
         let dr = self.rotational_dof();
         [
             [-2.0 / d * a * f, 2.0 / d * b],
@@ -90,9 +94,20 @@ impl RoughCooling {
         if m[1][0] == 0.0 {
             return 0.0;
         }
-        let (slow, _) = self.eigenvalues();
-        // (m00 − λ) T + m01 R = 0 is degenerate when m01 = 0; the second row always holds.
-        m[1][0] / (slow - m[1][1])
+        // The slower eigenvector: m10 T + (m11 − λ) R = 0 with λ = s + w, s the mean of the diagonal,
+        // δ = (m00 − m11)/2 and w = √(δ² + m01 m10). λ − m11 = δ + w, which cancels when δ < 0 (small
+        // inertia: the rotational mode relaxes much faster); there it is m01 m10/(w − δ), so that
+        // R/T = (w − δ)/m01 with no difference of near-equal numbers.
+        // The ratio is that of the matrix scaled to unit size: no product underflows at tiny q.
+        let scale = m.iter().flatten().fold(0.0f64, |a, x| a.max(x.abs()));
+        let [[m00, m01], [m10, m11]] = m.map(|row| row.map(|x| x / scale));
+        let delta = 0.5 * (m00 - m11);
+        let w = (delta * delta + m01 * m10).sqrt();
+        if delta >= 0.0 {
+            m10 / (delta + w)
+        } else {
+            (w - delta) / m01
+        }
     }
 
     /// The asymptotic cooling rate −d ln T/dτ of both temperatures in that state.
@@ -110,15 +125,17 @@ impl RoughCooling {
         let m = self.matrix();
         let s = 0.5 * (m[0][0] + m[1][1]);
         let w = (0.25 * (m[0][0] - m[1][1]).powi(2) + m[0][1] * m[1][0]).sqrt();
-        let ch = (w * tau).cosh();
+        // e^{sτ}cosh(wτ) and e^{sτ}sinh(wτ)/w from e^{(s±w)τ}: the factors e^{sτ} and cosh(wτ)
+        // apart under- and overflow (0 · ∞) long before their product does.
+        let (fast, slow) = (((s - w) * tau).exp(), ((s + w) * tau).exp());
+        let ch = 0.5 * (slow + fast);
         let sh = if w * tau == 0.0 {
-            tau
+            tau * (s * tau).exp()
         } else {
-            (w * tau).sinh() / w
+            0.5 * (slow - fast) / w
         };
-        let e = (s * tau).exp();
-        let t = e * (ch * t0 + sh * ((m[0][0] - s) * t0 + m[0][1] * r0));
-        let r = e * (ch * r0 + sh * (m[1][0] * t0 + (m[1][1] - s) * r0));
+        let t = ch * t0 + sh * ((m[0][0] - s) * t0 + m[0][1] * r0);
+        let r = ch * r0 + sh * (m[1][0] * t0 + (m[1][1] - s) * r0);
         (t, r)
     }
 }
@@ -126,6 +143,28 @@ impl RoughCooling {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// At ε = β = 1 the ratio is exactly the equipartition value of N grains, N/(N − 1) (spins
+    /// carry no momentum constraint), for every inertia factor down to the smallest representable
+    /// ones; finite and positive everywhere else.
+    #[test]
+    fn stationary_ratio_is_stable_at_small_inertia() {
+        for d in [2, 3] {
+            for q in [1.0, 0.4, 1e-2, 1e-4, 1e-6, 1e-9, 1e-12, 1e-300] {
+                let r = RoughCooling::new(d, 1.0, 1.0, q)
+                    .with_particles(64)
+                    .stationary_ratio();
+                assert!((r / (64.0 / 63.0) - 1.0).abs() < 1e-9, "d {d} q {q}: {r}");
+                for (eps, beta) in [(0.5, 1.0), (0.9, 0.0), (0.1, -0.9)] {
+                    let r = RoughCooling::new(d, eps, beta, q).stationary_ratio();
+                    assert!(
+                        r.is_finite() && r > 0.0,
+                        "d {d} q {q} eps {eps} beta {beta}: {r}"
+                    );
+                }
+            }
+        }
+    }
 
     /// ε = β = 1 conserves d T + d_rot R: the ratio is 1 (equipartition) and nothing cools.
     #[test]

@@ -38,6 +38,17 @@ fn spins<const D: usize>(sim: &dyn Engine<D>) -> Vec<f64> {
     }
 }
 
+/// The state now, in the original particle order.
+fn snapshot<const D: usize>(sim: &dyn Engine<D>) -> Snapshot {
+    Snapshot {
+        step: sim.counters().pair_collisions as i64,
+        time: sim.time(),
+        position: flat(&sim.positions()),
+        velocity: flat(&sim.velocities()),
+        angular_velocity: spins(sim),
+    }
+}
+
 /// Rotational degrees of freedom per particle: 1 for disks, 3 for spheres.
 const fn rotational_dof(d: usize) -> f64 {
     if d == 2 {
@@ -243,13 +254,7 @@ fn drive<const D: usize>(
             os.s_rho.push(op.s_rho);
         }
         if snapshot {
-            snapshots.push(Snapshot {
-                step: o.pair_collisions as i64,
-                time: o.time,
-                position: flat(&sim.positions()),
-                velocity: flat(&sim.velocities()),
-                angular_velocity: spins(sim),
-            });
+            snapshots.push(self::snapshot(sim));
         }
     };
 
@@ -288,7 +293,14 @@ fn drive<const D: usize>(
             break;
         }
         let snap = next_snapshot.is_some_and(|t| same_point(t, point));
-        sample(&*sim, &mut series, &mut snapshots, &mut meter, snap);
+        let c = sim.counters().pair_collisions;
+        if sampled_at != Some(c) {
+            sample(&*sim, &mut series, &mut snapshots, &mut meter, snap);
+        } else if snap && snapshots.last().map(|s| s.step) != Some(c as i64) {
+            // Two schedule points on one collision (small N): one sample, and the snapshot asked
+            // for here is the state already sampled.
+            snapshots.push(snapshot(&*sim));
+        }
         if snap {
             next_snapshot = after(&snapshot_times, point, spec.stop.tau_max);
         }
@@ -324,13 +336,7 @@ fn drive<const D: usize>(
             final_snapshot,
         );
     } else if final_snapshot && snapshots.last().map(|s| s.step) != Some(c as i64) {
-        snapshots.push(Snapshot {
-            step: c as i64,
-            time: sim.time(),
-            position: flat(&sim.positions()),
-            velocity: flat(&sim.velocities()),
-            angular_velocity: spins(&*sim),
-        });
+        snapshots.push(snapshot(&*sim));
     }
     let (status, message, collapse) = match end {
         RunEnd::Collapsed => {
