@@ -99,9 +99,9 @@ test: deps lint test-rust test-python test-slurm bench-smoke
 # with `collisions_per_s=<number> bytes_per_particle=<number>`.
 bench:
 ifdef N
-	$(CARGO) run --release -q --bin edmd-bench -- --d $(or $(D),2) --n $(N) --phi $(or $(PHI),0.3) --eps $(or $(EPS),1.0)
+	$(CARGO) run --profile dist -q --bin edmd-bench -- --d $(or $(D),2) --n $(N) --phi $(or $(PHI),0.3) --eps $(or $(EPS),1.0)
 else
-	$(CARGO) run --release -q --bin edmd-bench -- --matrix
+	$(CARGO) run --profile dist -q --bin edmd-bench -- --matrix
 endif
 
 # Stress tests at full size (10^8 elastic collisions, T/T0 < 1e-1000, N = 10^7 disks, 2000 fuzz
@@ -113,7 +113,7 @@ stress:
 # cases > 10 % slower than the previous entry on this machine (exit 1); then, where the peer codes are
 # found (EDMD_PEERS=DIR), edmd/peer ratios side by side. NIGHTLY_ARGS="--only D=2,N=10000".
 bench-nightly:
-	$(CARGO) build --release -q --bin edmd-bench
+	$(CARGO) build --profile dist -q --bin edmd-bench
 	$(PYTHON) scripts/bench-nightly.py $(NIGHTLY_ARGS)
 
 # Run time against error: collapse remedies, statistics, classification (table + PNG in bench-out/accuracy).

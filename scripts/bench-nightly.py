@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Nightly throughput benchmark of the engine (`make bench-nightly`).
 
-Runs a fixed matrix of cases with the release `edmd-bench` binary, one process per case (so peak memory
+Runs a fixed matrix of cases with the `edmd-bench` binary of the dist profile, one process per case (so peak memory
 is per case): D in {2, 3}; N in {1e3, 1e4, 1e5, 1e6}; phi in {0.05, 0.3, 0.7} (2D) or {0.05, 0.3, 0.5}
 (3D); elastic and eps = 0.9; periodic box; each case equilibrated elastically for 2 collisions per
 particle (1 from N = 1e5 on), then timed over about 1e6 collisions (at least half a collision per
@@ -153,7 +153,7 @@ def summarize(ms: list[dict]) -> dict:
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--history", default=str(ROOT / "benches" / "history.jsonl"), help="JSON-lines history file (appended)")
-    ap.add_argument("--bench", default=str(ROOT / "target" / "release" / "edmd-bench"), help="edmd-bench binary")
+    ap.add_argument("--bench", default=str(ROOT / "target" / "dist" / "edmd-bench"), help="edmd-bench binary")
     ap.add_argument("--machine", default=os.environ.get("EDMD_BENCH_MACHINE"), help="machine name (default: CPU model and core count; env EDMD_BENCH_MACHINE)")
     ap.add_argument("--only", help="run the matching cases only, e.g. D=2,N=10000")
     ap.add_argument("--threshold", type=float, default=0.10, help="flag cases slower than the previous entry by more than this fraction (default 0.10)")
@@ -175,7 +175,7 @@ def main() -> int:
         return 2
     bench = Path(args.bench)
     if not bench.is_file():
-        print(f"error: benchmark binary {bench} not found: build it with `cargo build --release --bin edmd-bench`", file=sys.stderr)
+        print(f"error: benchmark binary {bench} not found: build it with `cargo build --profile dist --bin edmd-bench`", file=sys.stderr)
         return 2
     only = parse_only(args.only)
     cases = [c for c in matrix() if all(abs(c[k] - v) < 1e-12 for k, v in only.items())]

@@ -299,6 +299,10 @@ fn execute(command: Command) -> anyhow::Result<ExitCode> {
                 partial,
                 count(Status::Missing).saturating_sub(partial)
             );
+            if let Some(who) = edmd_sweep::lock::running(&out) {
+                // A replica being simulated has no file yet: the pending ones include it.
+                println!("  a run is in progress ({who}): its replicas being simulated now are among the pending");
+            }
             for r in records.iter().filter(|r| {
                 matches!(
                     r.status,

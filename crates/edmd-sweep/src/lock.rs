@@ -90,6 +90,33 @@ fn pid(p: Option<u32>) -> String {
     p.map_or("PID unknown".to_string(), |p| format!("PID {p}"))
 }
 
+/// Who is running in `root` now, if anyone: the exclusive holder's PID, or the shards that hold
+/// their locks (for `status`, which takes no lock). `None` when no run or merge holds `OUT/.lock`.
+pub fn running(root: &Path) -> Option<String> {
+    let main_path = root.join(".lock");
+    use std::os::unix::fs::OpenOptionsExt;
+    let file = std::fs::OpenOptions::new()
+        .read(true)
+        .custom_flags(libc::O_NOFOLLOW)
+        .open(&main_path)
+        .ok()?;
+    match file.try_lock_shared() {
+        Ok(()) => {
+            // Free for a shared lock: no exclusive holder, but shards may be running.
+            let shards = shard_holders(root);
+            (!shards.is_empty()).then(|| {
+                let list: Vec<String> = shards
+                    .iter()
+                    .map(|(s, p)| format!("shard {s}, {}", pid(*p)))
+                    .collect();
+                list.join("; ")
+            })
+        }
+        Err(TryLockError::WouldBlock) => Some(pid(holder(&main_path))),
+        Err(TryLockError::Error(_)) => None,
+    }
+}
+
 /// Takes the lock of the output directory `root` (which must exist) in `mode`, or says who holds it.
 pub fn lock(root: &Path, mode: LockMode) -> Result<OutLock, SweepError> {
     let main_path = root.join(".lock");
@@ -163,7 +190,11 @@ mod tests {
         let pid = std::process::id();
         let other = lock(root, s(0, 2)).unwrap_err().to_string();
         assert!(other.contains(&format!("(PID {pid})")), "{other}");
+        assert_eq!(running(root), Some(format!("PID {pid}")));
         drop(held);
-        lock(root, s(0, 2)).unwrap();
+        assert_eq!(running(root), None);
+        let shard = lock(root, s(0, 2)).unwrap();
+        assert_eq!(running(root), Some(format!("shard 0/2, PID {pid}")));
+        drop(shard);
     }
 }
