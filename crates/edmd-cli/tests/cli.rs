@@ -290,16 +290,37 @@ fn output_of_a_different_spec_is_refused_unless_forced() {
     assert_ne!(dump(&out.join("replicas/r00000.h5")), before);
 }
 
-/// A replica that cannot start and one that collapses are recorded; the sweep goes on and exits 2.
+/// A start no lattice reaches is refused before anything runs; a replica that collapses is recorded,
+/// the sweep goes on and exits 2.
 #[test]
-fn failed_and_collapsed_replicas_are_recorded() {
+fn unreachable_starts_are_refused_and_collapsed_replicas_recorded() {
     let tmp = tempfile::tempdir().unwrap();
-    // phi = 0.905 passes validation (below close packing) but no start reaches it: failed.
+    // phi = 0.905 is below close packing, but no lattice start of 64 disks reaches it: refused
+    // before anything runs (it used to fail at run time), naming the replica and the limit.
+    let bad = write(
+        tmp.path(),
+        "bad.json",
+        r#"{"name": "problems", "grid": {"eps": 0.9, "phi": 0.905, "n": 64}, "stop": {"tau_max": 200}}"#,
+    );
+    let bad_out = tmp.path().join("bad-out");
+    let o = run(&[
+        "run",
+        bad.to_str().unwrap(),
+        "-o",
+        bad_out.to_str().unwrap(),
+        "-q",
+    ]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("replica 0") && err.contains("at most 0.7854"),
+        "{err}"
+    );
+    assert!(!bad_out.exists(), "nothing written for a refused spec");
     // 100 disks at phi = 0.6 and eps = 0.02 collapse near tau = 60.
     let spec = r#"{
   "name": "problems",
   "grid": [
-    { "eps": 0.9, "phi": 0.905, "n": 64 },
     { "eps": 0.9, "phi": 0.3, "n": 64 },
     { "eps": 0.02, "phi": 0.6, "n": 100 }
   ],
@@ -316,19 +337,18 @@ fn failed_and_collapsed_replicas_are_recorded() {
     ]);
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(2), "{err}");
-    assert!(err.contains("failed: replica 0"), "{err}");
-    assert!(err.contains("collapsed: replica 2"), "{err}");
+    assert!(err.contains("collapsed: replica 1"), "{err}");
     let csv = std::fs::read_to_string(out.join("summary.csv")).unwrap();
     let status: Vec<&str> = csv
         .lines()
         .skip(1)
         .map(|l| l.split(',').nth(2).unwrap())
         .collect();
-    assert_eq!(status, ["failed", "done", "collapsed"]);
+    assert_eq!(status, ["done", "collapsed"]);
     let s = run(&["status", out.to_str().unwrap()]);
     let text = String::from_utf8_lossy(&s.stdout);
     assert!(
-        text.contains("1 done, 1 collapsed, 0 stalled, 1 failed"),
+        text.contains("1 done, 1 collapsed, 0 stalled, 0 failed"),
         "{text}"
     );
 }

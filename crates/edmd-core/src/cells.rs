@@ -58,6 +58,22 @@ impl<const D: usize> CellGrid<D> {
     /// A grid over a box `box_len`, with cells of side at least `min_side` (close to `target_side`
     /// when that is larger).
     pub fn new(box_len: &Vector<D>, min_side: f64, target_side: f64) -> Result<Self, EdmdError> {
+        let (n, side, stride, total) = Self::layout(box_len, min_side, target_side)?;
+        Self::with_layout(n, side, stride, total)
+    }
+
+    /// Whether [`CellGrid::new`] would succeed with these arguments, without allocating the grid.
+    pub fn check(box_len: &Vector<D>, min_side: f64, target_side: f64) -> Result<(), EdmdError> {
+        Self::layout(box_len, min_side, target_side).map(drop)
+    }
+
+    /// Cells per axis, their sides, strides and total count.
+    #[allow(clippy::type_complexity)]
+    fn layout(
+        box_len: &Vector<D>,
+        min_side: f64,
+        target_side: f64,
+    ) -> Result<([usize; D], [f64; D], [usize; D], usize), EdmdError> {
         let mut n = [0usize; D];
         let mut side = [0.0; D];
         let mut stride = [0usize; D];
@@ -88,6 +104,15 @@ impl<const D: usize> CellGrid<D> {
                     )
                 })?;
         }
+        Ok((n, side, stride, total))
+    }
+
+    fn with_layout(
+        n: [usize; D],
+        side: [f64; D],
+        stride: [usize; D],
+        total: usize,
+    ) -> Result<Self, EdmdError> {
         let mut full = Vec::new();
         let mut partial = vec![Vec::new(); 2 * D];
         for code in 0..3usize.pow(D as u32) {

@@ -207,6 +207,50 @@ impl<const D: usize> InitParams<D> {
         Ok(())
     }
 
+    /// The checks of [`Self::build`] that need no simulation, in a fraction of its time: the
+    /// parameters, a lattice start's reach (the lattice is laid out, with no melt) and the cell
+    /// grid of the box. A start that passes can still fail only in random placement (too dense for
+    /// the random start's tries). Used to refuse a spec before anything runs.
+    pub fn preflight<B: Boundary>(&self) -> Result<(), EdmdError> {
+        self.validate()?;
+        let phi = self.packing_fraction();
+        let lattice = match self.placement {
+            Placement::Random => false,
+            Placement::Lattice => true,
+            Placement::Auto => phi > if D == 2 { 0.4 } else { 0.25 },
+        };
+        if lattice {
+            if self.radii.is_some() {
+                return Err(EdmdError::invalid(
+                    "placement",
+                    "lattice",
+                    "lattice starts need equal radii; use random placement",
+                ));
+            }
+            let mut rng = Xoshiro256PlusPlus::seed_from_u64(self.seed);
+            lattice_positions::<D, B>(self.n, &self.box_len, self.radius, phi, &mut rng)?;
+        }
+        let max_d = 2.0
+            * self
+                .radii
+                .as_ref()
+                .map_or(self.radius, |r| r.iter().copied().fold(0.0, f64::max));
+        let params = self.sim.unwrap_or_else(|| self.default_sim_params());
+        let skin = params.neighbour_skin * max_d;
+        if !lattice {
+            // Random placement files the grains in a grid of one diameter.
+            crate::CellGrid::<D>::check(&self.box_len, max_d, max_d)?;
+        }
+        let lists = skin > 0.0
+            && !B::GRAVITY
+            && crate::CellGrid::<D>::check(&self.box_len, max_d + skin, max_d * params.cell_factor)
+                .is_ok();
+        if !lists {
+            crate::CellGrid::<D>::check(&self.box_len, max_d, max_d * params.cell_factor)?;
+        }
+        Ok(())
+    }
+
     /// Builds the simulation: places particles, draws velocities, melts a lattice elastically, sets
     /// zero momentum and the exact temperature, and resets the counters.
     pub fn build<B: Boundary, R: CollisionRule>(

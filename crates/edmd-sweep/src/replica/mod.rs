@@ -214,6 +214,26 @@ fn by_boundary<const D: usize>(
     }
 }
 
+/// The checks of building replica `r` that need no simulation (a lattice start's reach, the cell
+/// grid of its box), so that `validate-spec` and `run` refuse what would fail at run time.
+pub(crate) fn preflight(spec: &Spec, r: &Replica) -> Result<(), EdmdError> {
+    fn scene<const D: usize>(spec: &Spec, r: &Replica) -> Result<(), EdmdError> {
+        let p = simulate::init_params::<D>(spec, r).0;
+        match (r.boundary, r.gravity > 0.0) {
+            (BoundaryKind::Periodic, _) => p.preflight::<Periodic>(),
+            (BoundaryKind::Walls, false) => p.preflight::<Walls>(),
+            (BoundaryKind::Channel, false) => p.preflight::<Channel>(),
+            (BoundaryKind::Walls, true) => p.preflight::<Container>(),
+            (BoundaryKind::Channel, true) => p.preflight::<Column>(),
+        }
+    }
+    match r.dim {
+        2 => scene::<2>(spec, r),
+        3 => scene::<3>(spec, r),
+        d => Err(EdmdError::invalid("dim", d, "dimension must be 2 or 3")),
+    }
+}
+
 /// Smooth grains run the rule as it is; rough ones (β > −1) carry spin.
 fn by_grain<const D: usize, B: Boundary>(
     spec: &Spec,

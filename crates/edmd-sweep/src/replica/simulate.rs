@@ -73,7 +73,7 @@ pub(super) fn simulate<const D: usize, B: Boundary, R: CollisionRule>(
 
 /// The set-up of replica `r`: box, seed, velocities, species (and the species of each slot), walls,
 /// gravity and floor.
-fn init_params<const D: usize>(spec: &Spec, r: &Replica) -> (InitParams<D>, Vec<usize>) {
+pub(super) fn init_params<const D: usize>(spec: &Spec, r: &Replica) -> (InitParams<D>, Vec<usize>) {
     let sides = r.sides();
     let mut p = InitParams::<D>::in_box(r.n, Vector::<D>::from_fn(|a, _| sides[a]));
     p.seed = r.seed;

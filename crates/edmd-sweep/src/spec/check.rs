@@ -295,7 +295,10 @@ impl Spec {
         let mut first_of: Vec<(String, usize)> = Vec::new();
         for r in self.replicas() {
             check_replica(self, &r)?;
-            if r.seed_index == 0 {
+            if r.seed_index == 0 && r.n <= PREFLIGHT_MAX_N {
+                // Once per grid point: the start and the cell grid, as the run would build them.
+                crate::replica::preflight(self, &r)
+                    .map_err(|e| SweepError::Spec(format!("{r}: {e}")))?;
                 let key = r.point_key();
                 if !seen.insert(key.clone()) {
                     let earlier = first_of.iter().find(|(k, _)| *k == key).map(|(_, i)| *i);
@@ -395,6 +398,11 @@ impl Spec {
         linear + log + self.snapshots.count_to(tau) + 2.0
     }
 }
+
+/// Replicas up to this N are built in outline when a spec is checked (`replica::preflight`: a
+/// lattice start laid out, the cell grid counted); the O(N) layout of larger ones is left to the
+/// run, after the memory estimate has had its say.
+const PREFLIGHT_MAX_N: usize = 10_000_000;
 
 /// Static checks of one replica that need no simulation: the box holds a cell list and the rule
 /// can be built. Errors name the replica.
