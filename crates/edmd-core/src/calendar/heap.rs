@@ -3,7 +3,7 @@
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 
-use super::{Calendar, HasEntry};
+use super::{Calendar, HasEntry, NoHints};
 
 /// `f64` with a total order, for the oracle heap.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -91,6 +91,12 @@ impl Calendar for HeapCalendar {
 
     fn len(&self) -> usize {
         self.len
+    }
+
+    type Hints = NoHints;
+
+    fn hints(&self) -> &NoHints {
+        &NoHints
     }
 
     fn reset<E: HasEntry>(&mut self, _: &mut [E], _origin: f64, _width: f64) {

@@ -12,6 +12,9 @@
 //! test oracle and as the benchmark baseline.
 //!
 //! Both order events by `(time, particle index)`, so the two produce identical sequences.
+//!
+//! What a calendar knows ahead of its pops (the next particle, the particles of the coming buckets)
+//! is offered separately, as [`Hints`] for prefetching: the oracle offers none ([`NoHints`]).
 
 /// One particle's place in a calendar: its filed time and where the calendar keeps it.
 ///
@@ -85,39 +88,11 @@ pub trait Calendar: std::fmt::Debug + Send {
     fn is_empty(&self) -> bool {
         self.len() == 0
     }
-    /// The particle most likely to be popped next, if known cheaply (used to prefetch its data).
-    fn next_hint(&self) -> Option<u32> {
-        None
-    }
-    /// Asks for the lines that filing an entry at time `t`, and removing particle `i`'s present
-    /// one, will touch (a hint: called where the time is known some work before the filing).
-    #[inline(always)]
-    fn prefetch_filing<E: HasEntry>(&self, e: &[E], i: u32, t: f64) {
-        let _ = (e, i, t);
-    }
-    /// The particles filed in the bucket `k` places after the current one, as far as it holds them
-    /// in place (a hint for a look-ahead several events deep; empty where unknown). Reads that
-    /// bucket's line.
-    #[inline(always)]
-    fn ahead(&self, k: usize) -> &[u32] {
-        let _ = k;
-        &[]
-    }
-    /// Asks for the line of the bucket `k` places after the current one (a hint).
-    #[inline(always)]
-    fn prefetch_bucket(&self, k: usize) {
-        let _ = k;
-    }
-    /// The current bucket's number: it changes whenever the calendar moves on to a later bucket.
-    #[inline(always)]
-    fn position(&self) -> i64 {
-        0
-    }
-    /// Lets filings into later buckets wait until their bucket line has arrived: a hint that
-    /// changes no pop (the Paul calendar defers by default; tests compare both).
-    fn defer_filings<E: HasEntry>(&mut self, e: &mut [E], on: bool) {
-        let _ = (e, on);
-    }
+    /// What the calendar can say ahead of its pops, for prefetching ([`Hints`]; [`NoHints`] for a
+    /// calendar that knows nothing ahead, such as the oracle [`HeapCalendar`]).
+    type Hints: Hints;
+    /// The calendar's hints.
+    fn hints(&self) -> &Self::Hints;
     /// Empties the calendar (every entry of `e` included) and sets its time origin and bucket
     /// width (a hint; `width > 0`).
     fn reset<E: HasEntry>(&mut self, e: &mut [E], origin: f64, width: f64);
@@ -163,21 +138,20 @@ impl<C: Calendar> Standalone<C> {
     pub fn is_empty(&self) -> bool {
         self.calendar.is_empty()
     }
-    /// [`Calendar::ahead`].
-    pub fn ahead(&self, k: usize) -> &[u32] {
-        self.calendar.ahead(k)
-    }
-    /// [`Calendar::position`].
-    pub fn position(&self) -> i64 {
-        self.calendar.position()
-    }
-    /// [`Calendar::defer_filings`].
-    pub fn defer_filings(&mut self, on: bool) {
-        self.calendar.defer_filings(&mut self.entries, on);
+    /// [`Calendar::hints`].
+    pub fn hints(&self) -> &C::Hints {
+        self.calendar.hints()
     }
     /// [`Calendar::reset`].
     pub fn reset(&mut self, origin: f64, width: f64) {
         self.calendar.reset(&mut self.entries, origin, width);
+    }
+}
+
+impl Standalone<PaulCalendar> {
+    /// [`PaulCalendar::defer_filings`].
+    pub fn defer_filings(&mut self, on: bool) {
+        self.calendar.defer_filings(&mut self.entries, on);
     }
 }
 
@@ -187,9 +161,11 @@ pub(crate) fn earlier(a: (f64, u32), b: (f64, u32)) -> bool {
 }
 
 mod heap;
+mod hints;
 mod paul;
 #[cfg(test)]
 mod tests;
 
 pub use heap::HeapCalendar;
+pub use hints::{Hints, NoHints};
 pub use paul::PaulCalendar;

@@ -41,27 +41,12 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         }
     }
 
-    /// [`Self::step`] for a neighbour strategy fixed at compile time.
+    /// [`Self::step`] for a neighbour strategy fixed at compile time: pop, decode, handle. The
+    /// prefetch hints are the four `hint_*` hooks (`sim/hints.rs`); they change no event.
     #[inline]
     pub(super) fn step_with<S: Search>(&mut self) -> Option<EventKind> {
         let (i, t) = self.calendar.pop(&mut self.meta)?;
-        if let Some(next) = self.calendar.next_hint() {
-            crate::prefetch::prefetch(&self.particles[next as usize]);
-            crate::prefetch::prefetch(&self.meta[next as usize]);
-            if S::LISTS {
-                if let Some(nl) = &self.nl {
-                    nl.prefetch(next as usize);
-                }
-            }
-        }
-        if !S::LISTS && self.look_ahead {
-            let at = self.calendar.position();
-            if at != self.look_at {
-                let jump = at.wrapping_sub(self.look_at);
-                self.look_at = at;
-                self.look_ahead_cells(jump);
-            }
-        }
+        self.hint_popped::<S>();
         debug_assert!(t >= self.now, "event in the past: {t} < {}", self.now);
         self.now = t;
         self.counters.events += 1;
@@ -69,26 +54,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         let id = self.meta[i].id;
         let kind = match self.decode(i) {
             Event::Collision(j) => {
-                if S::LISTS {
-                    // The partner's list is scanned right after the collision.
-                    if let Some(nl) = &self.nl {
-                        nl.prefetch(j);
-                    }
-                }
-                self.collide(i, j);
-                // Both predictions before either filing: the calendar lines each filing touches
-                // are asked for as soon as its time is known and arrive during the other's work.
-                let ti = self.predict_event::<S>(i);
-                if self.look_ahead {
-                    self.calendar.prefetch_filing(&self.meta, i as u32, ti);
-                }
-                let tj = self.predict_event::<S>(j);
-                if self.look_ahead {
-                    self.calendar.prefetch_filing(&self.meta, j as u32, tj);
-                }
-                self.calendar.schedule(&mut self.meta, i as u32, ti);
-                self.calendar.schedule(&mut self.meta, j as u32, tj);
-                self.watch_collapse(i as u32, j as u32);
+                self.pair_event::<S>(i, j);
                 EventKind::Collision(id, self.meta[j].id)
             }
             Event::Stale => {
@@ -110,32 +76,27 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                 EventKind::CellCrossing(id)
             }
         };
-        if S::LISTS && self.look_ahead {
-            self.prefetch_next_partner();
-        }
+        self.hint_done::<S>();
         if self.counters.events >= self.next_maintenance {
             self.maintenance();
         }
         Some(kind)
     }
 
-    /// Neighbour-list mode: asks for the lines the next event will read after its own particle's
-    /// (prefetched when it reached the calendar's front): its collision partner's record,
-    /// bookkeeping and list. Their address needs the next particle's bookkeeping, which has arrived
-    /// by the end of the current event. (In cell mode the same, and the first members of the
-    /// neighbour cells, measured no gain: docs/benchmarks.md.)
-    #[inline]
-    fn prefetch_next_partner(&self) {
-        let (Some(next), Some(nl)) = (self.calendar.next_hint(), &self.nl) else {
-            return;
-        };
-        let e = &self.meta[next as usize].ev;
-        if e.coll_t <= e.aux_t && e.partner != NONE {
-            let j = e.partner as usize;
-            crate::prefetch::prefetch(&self.particles[j]);
-            crate::prefetch::prefetch(&self.meta[j]);
-            nl.prefetch(j);
-        }
+    /// The collision of slots `i` and `j`, then both predictions before either filing: the
+    /// calendar lines each filing touches are asked for as soon as its time is known and arrive
+    /// during the other's work.
+    #[inline(always)]
+    fn pair_event<S: Search>(&mut self, i: usize, j: usize) {
+        self.hint_partner::<S>(j);
+        self.collide(i, j);
+        let ti = self.predict_event::<S>(i);
+        self.hint_filing(i, ti);
+        let tj = self.predict_event::<S>(j);
+        self.hint_filing(j, tj);
+        self.calendar.schedule(&mut self.meta, i as u32, ti);
+        self.calendar.schedule(&mut self.meta, j as u32, tj);
+        self.watch_collapse(i as u32, j as u32);
     }
 
     /// The event slot `i` holds now: its collision candidate if that comes first, else its

@@ -30,7 +30,7 @@
 //! (a hint never faults), and an empty cell asks for slot 0 rather than branch.
 
 use super::{Aux, Simulation};
-use crate::calendar::Calendar;
+use crate::calendar::{Calendar, Hints};
 use crate::cells::NONE;
 use crate::prefetch::prefetch_record_at;
 use crate::{Boundary, CollisionRule};
@@ -59,7 +59,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     /// last call.
     #[inline(never)]
     pub(super) fn look_ahead_cells(&self, jump: i64) {
-        let cal = &self.calendar;
+        let cal = self.calendar.hints();
         for &i in cal.ahead(1) {
             let m = &self.meta[i as usize];
             if m.ev.coll_t <= m.ev.aux_t && m.ev.partner != NONE {
@@ -84,7 +84,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     /// The records stage for the bucket `k` places ahead.
     #[inline(always)]
     fn stage_records(&self, k: usize) {
-        for &i in self.calendar.ahead(k) {
+        for &i in self.calendar.hints().ahead(k) {
             let i = i as usize;
             prefetch_record_at(&self.particles, i);
             prefetch_record_at(&self.meta, i);
@@ -94,7 +94,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     /// The heads stage for the bucket `k` places ahead.
     #[inline(always)]
     fn stage_heads(&self, k: usize) {
-        for &i in self.calendar.ahead(k) {
+        for &i in self.calendar.hints().ahead(k) {
             let i = i as usize;
             match self.reads(i) {
                 Reads::Search { centre, partner } => {
@@ -121,7 +121,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     /// The members stage for the bucket `k` places ahead.
     #[inline(always)]
     fn stage_members(&self, k: usize) {
-        let cal = &self.calendar;
+        let cal = self.calendar.hints();
         for &i in cal.ahead(k) {
             let i = i as usize;
             match self.reads(i) {

@@ -33,6 +33,7 @@ mod contact;
 mod cooling;
 mod engine;
 mod event;
+mod hints;
 mod lists;
 mod look_ahead;
 mod params;
@@ -43,7 +44,7 @@ mod upkeep;
 use collapse::CollapseMonitor;
 
 /// Engine arrays beyond which each event in neighbour-list mode prefetches the next one's partner
-/// (`Simulation::prefetch_next_partner`): twice a large last-level cache. Below it those lines are
+/// (`sim/hints.rs`): twice a large last-level cache. Below it those lines are
 /// mostly cached and the extra loads cost more than they hide (docs/benchmarks.md).
 const LOOK_AHEAD_BYTES: usize = 64 << 20;
 pub use collapse::{Collapse, CollapseReason};
@@ -196,11 +197,8 @@ pub struct Simulation<const D: usize, B: Boundary, R: CollisionRule, C: Calendar
     monitor: CollapseMonitor,
     next_maintenance: u64,
     last_maintenance: (u64, f64),
-    /// Whether the state is far larger than a cache, so that each event ends by asking for what
-    /// the next one will read (`Self::prefetch_next_partner`).
-    look_ahead: bool,
-    /// The calendar's bucket at the last stage of the cell-mode look-ahead (`sim/look_ahead.rs`).
-    look_at: i64,
+    /// The large-system look-ahead (`sim/hints.rs`): on when the state is far larger than a cache.
+    look_ahead: hints::LookAhead,
     _boundary: PhantomData<B>,
 }
 
@@ -346,8 +344,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             monitor: CollapseMonitor::default(),
             next_maintenance: 0,
             last_maintenance: (0, 0.0),
-            look_ahead: false,
-            look_at: 0,
+            look_ahead: hints::LookAhead::default(),
             _boundary: PhantomData,
         };
         for i in 0..n {
@@ -390,7 +387,6 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             next_maintenance: self.next_maintenance,
             last_maintenance: self.last_maintenance,
             look_ahead: self.look_ahead,
-            look_at: self.look_at,
             _boundary: PhantomData,
         }
     }

@@ -49,13 +49,13 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     /// calendar's next buckets in cell mode). It is switched on when the engine's arrays exceed
     /// 64 MiB, where those lines are not in cache.
     pub fn look_ahead(&self) -> bool {
-        self.look_ahead
+        self.look_ahead.on
     }
 
     /// Forces the large-system look-ahead on or off (benchmarks, tests). Hints only: events and
     /// trajectories are the same either way.
     pub fn set_look_ahead(&mut self, on: bool) {
-        self.look_ahead = on;
+        self.look_ahead.on = on;
     }
 
     /// Resets the event counters (not the clock), e.g. after equilibration.

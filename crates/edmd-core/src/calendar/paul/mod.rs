@@ -1,6 +1,6 @@
 //! The bucket calendar of G. Paul (2007).
 
-use super::{earlier, Calendar, Entry, HasEntry};
+use super::{earlier, Calendar, Entry, HasEntry, Hints};
 
 mod deferred;
 
@@ -49,7 +49,7 @@ pub struct PaulCalendar {
     /// Bucket loads so far (wrapping): a deferred filing records it, and is linked at the second
     /// load after its own (its line has had a whole bucket's events to arrive) or when due.
     loads: u32,
-    /// Whether bucket filings are deferred ([`Calendar::defer_filings`]).
+    /// Whether bucket filings are deferred ([`PaulCalendar::defer_filings`]).
     defer: bool,
     origin: f64,
     width: f64,
@@ -299,6 +299,15 @@ impl PaulCalendar {
             }
         }
     }
+
+    /// Lets filings into later buckets wait until their bucket line has arrived (on by default):
+    /// a setting that changes no pop (the tests compare both).
+    pub fn defer_filings<E: HasEntry>(&mut self, e: &mut [E], on: bool) {
+        if !on {
+            self.link_deferred(e);
+        }
+        self.defer = on;
+    }
 }
 
 impl Calendar for PaulCalendar {
@@ -388,6 +397,35 @@ impl Calendar for PaulCalendar {
         self.len
     }
 
+    type Hints = Self;
+
+    #[inline(always)]
+    fn hints(&self) -> &Self {
+        self
+    }
+
+    fn reset<E: HasEntry>(&mut self, e: &mut [E], origin: f64, width: f64) {
+        assert!(
+            width > 0.0 && width.is_finite(),
+            "calendar bucket width must be positive"
+        );
+        for x in e.iter_mut() {
+            *x.entry_mut() = Entry::EMPTY;
+        }
+        self.buckets.fill(EMPTY_BUCKET);
+        self.overflow.clear();
+        self.heap.clear();
+        self.deferred.clear();
+        self.origin = origin;
+        self.width = width;
+        self.inv_width = 1.0 / width;
+        self.cur = 0;
+        self.in_buckets = 0;
+        self.len = 0;
+    }
+}
+
+impl Hints for PaulCalendar {
     #[inline(always)]
     fn next_hint(&self) -> Option<u32> {
         match self.heap.first() {
@@ -431,32 +469,5 @@ impl Calendar for PaulCalendar {
     #[inline(always)]
     fn position(&self) -> i64 {
         self.cur
-    }
-
-    fn defer_filings<E: HasEntry>(&mut self, e: &mut [E], on: bool) {
-        if !on {
-            self.link_deferred(e);
-        }
-        self.defer = on;
-    }
-
-    fn reset<E: HasEntry>(&mut self, e: &mut [E], origin: f64, width: f64) {
-        assert!(
-            width > 0.0 && width.is_finite(),
-            "calendar bucket width must be positive"
-        );
-        for x in e.iter_mut() {
-            *x.entry_mut() = Entry::EMPTY;
-        }
-        self.buckets.fill(EMPTY_BUCKET);
-        self.overflow.clear();
-        self.heap.clear();
-        self.deferred.clear();
-        self.origin = origin;
-        self.width = width;
-        self.inv_width = 1.0 / width;
-        self.cur = 0;
-        self.in_buckets = 0;
-        self.len = 0;
     }
 }

@@ -1,0 +1,109 @@
+//! The event loop's performance hints, in one place: prefetches that change no event.
+//!
+//! An event reads a chain of lines (its particle, its cells or list, its partner, the calendar
+//! buckets it files into) whose addresses are known some work before they are needed. The step
+//! (`sim/event.rs`) calls four hooks of this component and nothing else of it:
+//!
+//! * [`Simulation::hint_popped`], right after the pop: the next particle the calendar will pop
+//!   (its record, bookkeeping and list), and in large cell-mode systems the staged look-ahead over
+//!   the calendar's coming buckets (`sim/look_ahead.rs`) each time the calendar moves on;
+//! * [`Simulation::hint_partner`], before a collision is resolved: the partner's list, which is
+//!   scanned right after;
+//! * [`Simulation::hint_filing`], between the two predictions of a collision and their filings:
+//!   the calendar lines each filing will touch;
+//! * [`Simulation::hint_done`], at the end of the event: in large neighbour-list systems the next
+//!   event's partner.
+//!
+//! What a calendar can tell ahead comes from its [`Hints`]; the oracle calendar has none
+//! ([`crate::calendar::NoHints`]), and then every hook reduces to nothing. The staged look-ahead
+//! and the partner prefetch run only when [`LookAhead::on`] (the engine's arrays are far larger
+//! than a cache, `Simulation::set_look_ahead`); the others always, where measured to pay
+//! (docs/benchmarks.md).
+
+use super::{Search, Simulation};
+use crate::calendar::{Calendar, Hints};
+use crate::cells::NONE;
+use crate::{Boundary, CollisionRule};
+
+/// The state of the large-system look-ahead.
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct LookAhead {
+    /// On when the state is far larger than a cache.
+    pub on: bool,
+    /// The calendar's bucket at the last stage of the cell-mode look-ahead.
+    pub at: i64,
+}
+
+impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B, R, C> {
+    /// After the pop: asks for the next particle's lines, and runs the cell-mode look-ahead when
+    /// the calendar has moved to a later bucket.
+    #[inline(always)]
+    pub(super) fn hint_popped<S: Search>(&mut self) {
+        let hints = self.calendar.hints();
+        if let Some(next) = hints.next_hint() {
+            crate::prefetch::prefetch(&self.particles[next as usize]);
+            crate::prefetch::prefetch(&self.meta[next as usize]);
+            if S::LISTS {
+                if let Some(nl) = &self.nl {
+                    nl.prefetch(next as usize);
+                }
+            }
+        }
+        if !S::LISTS && self.look_ahead.on {
+            let at = hints.position();
+            if at != self.look_ahead.at {
+                let jump = at.wrapping_sub(self.look_ahead.at);
+                self.look_ahead.at = at;
+                self.look_ahead_cells(jump);
+            }
+        }
+    }
+
+    /// Before a collision with slot `j`: its list, which the prediction after it scans.
+    #[inline(always)]
+    pub(super) fn hint_partner<S: Search>(&self, j: usize) {
+        if S::LISTS {
+            if let Some(nl) = &self.nl {
+                nl.prefetch(j);
+            }
+        }
+    }
+
+    /// Slot `i`'s event is known to come at `t` and is about to be filed: the calendar lines the
+    /// filing touches (large systems only).
+    #[inline(always)]
+    pub(super) fn hint_filing(&self, i: usize, t: f64) {
+        if self.look_ahead.on {
+            self.calendar
+                .hints()
+                .prefetch_filing(&self.meta, i as u32, t);
+        }
+    }
+
+    /// At the end of an event, in large neighbour-list systems: the next event's partner.
+    #[inline(always)]
+    pub(super) fn hint_done<S: Search>(&self) {
+        if S::LISTS && self.look_ahead.on {
+            self.prefetch_next_partner();
+        }
+    }
+
+    /// Neighbour-list mode: asks for the lines the next event will read after its own particle's
+    /// (prefetched when it reached the calendar's front): its collision partner's record,
+    /// bookkeeping and list. Their address needs the next particle's bookkeeping, which has arrived
+    /// by the end of the current event. (In cell mode the same, and the first members of the
+    /// neighbour cells, measured no gain: docs/benchmarks.md.)
+    #[inline]
+    fn prefetch_next_partner(&self) {
+        let (Some(next), Some(nl)) = (self.calendar.hints().next_hint(), &self.nl) else {
+            return;
+        };
+        let e = &self.meta[next as usize].ev;
+        if e.coll_t <= e.aux_t && e.partner != NONE {
+            let j = e.partner as usize;
+            crate::prefetch::prefetch(&self.particles[j]);
+            crate::prefetch::prefetch(&self.meta[j]);
+            nl.prefetch(j);
+        }
+    }
+}
