@@ -7,7 +7,8 @@
 #   make bench     collisions/s and peak bytes per particle over N and phi (or one case: D= N= PHI= EPS=)
 #   make bench-nightly  the fixed benchmark matrix with history and regression flags
 #   make bench-accuracy  run time against error (remedies, statistics, classification)
-#   make test-slurm  sweeps on a real single-node Slurm (also part of make test)
+#   make test-slurm  sweeps on a real single-node Slurm (also part of make test): a 4-task array sweep
+#                  equals a local run; a cancelled task is finished by rerunning the submit command
 #   make stress    stress tests at full size (numerical stability; CI runs short versions)
 #   make validate  long equilibrium-accuracy runs (chi against Luding / Carnahan-Starling)
 #   make deps      system packages (libhdf5-dev, hdf5-tools) and the Python venv for analysis/
@@ -24,11 +25,14 @@ ifdef MEDIA
 APT_PACKAGES += ffmpeg chromium-headless-shell
 endif
 
-.PHONY: all deps build run figures demo cli check test test-rust test-bin test-python lint bench bench-smoke bench-nightly bench-accuracy stress test-slurm validate clean
+.PHONY: all deps deps-system venv build run figures demo cli check test test-rust test-bin test-python lint lint-rust lint-python bench bench-smoke bench-nightly bench-accuracy stress test-slurm run-rust-tests run-python-tests run-slurm-tests validate clean
 
 all: build
 
-deps:
+deps: deps-system venv
+
+# System packages: Debian's, installed with apt-get when missing.
+deps-system:
 	@missing=""; for p in $(APT_PACKAGES); do dpkg -s $$p >/dev/null 2>&1 || missing="$$missing $$p"; done; \
 	if [ -n "$$missing" ]; then \
 		echo "installing:$$missing"; \
@@ -36,6 +40,9 @@ deps:
 		elif command -v sudo >/dev/null; then sudo apt-get update -qq && sudo DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $$missing; \
 		else echo "error: missing Debian packages:$$missing (install them as root)"; exit 1; fi; \
 	fi
+
+# The Python venv of analysis/ (with its test extras).
+venv:
 	@if [ -f analysis/pyproject.toml ]; then \
 		[ -x $(VENV)/bin/python ] || $(PYTHON) -m venv $(VENV); \
 		$(VENV)/bin/pip install -q -e 'analysis[test]'; \
@@ -62,9 +69,13 @@ demo:
 cli:
 	$(CARGO) build --release -q -p edmd-cli --bin edmd
 
-lint:
+lint: lint-rust lint-python
+
+lint-rust:
 	$(CARGO) fmt --all -- --check
 	$(CARGO) clippy --workspace --all-targets -- -D warnings
+
+lint-python:
 	$(VENV)/bin/ruff check analysis scripts tests
 
 # Daily work: format check, lints and the Rust tests, without the Python, Slurm and benchmark parts.
@@ -84,8 +95,9 @@ TEST_BIN := $(CURDIR)/target/debug/edmd
 test-bin:
 	$(CARGO) test -q --workspace --no-run
 
-test-python: test-bin
-	EDMD_BIN=$(TEST_BIN) $(VENV)/bin/python -m pytest -q analysis
+test-python: test-bin run-python-tests
+
+test-slurm: test-bin run-slurm-tests
 
 # The calendar benchmark runs once in criterion's test mode: a smoke run, not a measurement (that is
 # `make bench`). `--workspace` keeps the dependency features of the workspace test build, so nothing is
@@ -93,7 +105,28 @@ test-python: test-bin
 bench-smoke: test-bin
 	$(CARGO) test -q --workspace --bench calendar
 
-test: deps lint test-rust test-python test-slurm bench-smoke
+# The parts of `make test` that only run what test-bin built; they call no cargo that builds, so
+# they can run side by side (cargo holds its build lock while it runs the Rust tests).
+run-python-tests:
+	EDMD_BIN=$(TEST_BIN) $(VENV)/bin/python -m pytest -q analysis
+
+run-slurm-tests:
+	PY=$(CURDIR)/$(VENV)/bin/python EDMD=$(TEST_BIN) bash tests/slurm/test-slurm.sh
+
+run-rust-tests:
+	$(CARGO) test -q --workspace
+	$(CARGO) test -q --workspace --bench calendar
+
+# Everything CI checks, scheduled for a 2-core machine (docs/benchmarks.md, "The lean build"): the
+# venv is made while the tests build; clippy runs after the build, whose build scripts and proc
+# macros it shares; then the Rust, Python and Slurm tests run side by side (the Python tests are
+# single-threaded, the Slurm test mostly waits for its scheduler), each printing its output when it
+# ends. Without incremental caches: a fresh build writes none it would never read.
+test: export CARGO_INCREMENTAL = 0
+test: deps-system
+	@$(MAKE) --no-print-directory -j2 --output-sync=target venv test-bin
+	@$(MAKE) --no-print-directory lint
+	@$(MAKE) --no-print-directory -j3 --output-sync=target run-rust-tests run-python-tests run-slurm-tests
 
 # `make bench` runs the matrix; `make bench D=2 N=10000 PHI=0.3 [EPS=1]` runs one case and ends
 # with `collisions_per_s=<number> bytes_per_particle=<number>`.
@@ -107,7 +140,7 @@ endif
 # Stress tests at full size (10^8 elastic collisions, T/T0 < 1e-1000, N = 10^7 disks, 2000 fuzz
 # cases); `cargo test` runs short versions. Figures: docs/benchmarks.md.
 stress:
-	$(CARGO) test -p edmd-core --test engine -- --ignored --nocapture --test-threads 1 stress:: fuzz::
+	$(CARGO) test -p edmd-core --test engine -- --ignored --nocapture --test-threads 1 stress:: fuzz:: deep_cooling::large
 
 # The nightly matrix (D, N, phi, eps): appends to benches/history.jsonl, prints a table and flags
 # cases > 10 % slower than the previous entry on this machine (exit 1); then, where the peer codes are
@@ -122,10 +155,6 @@ bench-accuracy: deps
 	$(CARGO) build --release -q -p edmd-cli --bin edmd
 	$(VENV)/bin/python scripts/bench-accuracy.py -o bench-out/accuracy
 
-# A real single-node Slurm (munge, slurmctld, slurmd from Debian's packages): a 4-task array sweep
-# equals a local run; a cancelled task is finished by rerunning the submit command.
-test-slurm: test-bin
-	PY=$(CURDIR)/$(VENV)/bin/python EDMD=$(TEST_BIN) bash tests/slurm/test-slurm.sh
 
 validate:
 	$(CARGO) test --release -p edmd-core --test engine -- --ignored --nocapture --test-threads 1 equilibrium::
