@@ -138,19 +138,30 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     /// search both take images this way, so that they agree to the last bit.
     #[inline(always)]
     pub(super) fn image_near(&self, x: &Vector<D>, y: &Vector<D>) -> Vector<D> {
-        let mut r = *x;
-        for a in 0..D {
-            if !B::is_wall(a) {
-                let d = x[a] - y[a];
-                if d > self.half_box[a] {
-                    r[a] -= self.box_len[a];
-                } else if d < -self.half_box[a] {
-                    r[a] += self.box_len[a];
-                }
+        image_near::<D, B>(&self.box_len, &self.half_box, x, y)
+    }
+}
+
+/// The image of `x` nearest to `y` across the periodic faces of a box of sides `box_len`.
+#[inline(always)]
+pub(super) fn image_near<const D: usize, B: Boundary>(
+    box_len: &Vector<D>,
+    half_box: &Vector<D>,
+    x: &Vector<D>,
+    y: &Vector<D>,
+) -> Vector<D> {
+    let mut r = *x;
+    for a in 0..D {
+        if !B::is_wall(a) {
+            let d = x[a] - y[a];
+            if d > half_box[a] {
+                r[a] -= box_len[a];
+            } else if d < -half_box[a] {
+                r[a] += box_len[a];
             }
         }
-        r
     }
+    r
 }
 
 /// A D-vector as a 3-vector (z = 0 in 2D).

@@ -35,9 +35,10 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     /// Processes the next event. Returns `None` when nothing will ever happen again (all at rest).
     #[inline]
     pub fn step(&mut self) -> Option<EventKind> {
-        match self.nl {
-            Some(_) => self.step_with::<Lists>(),
-            None => self.step_with::<Cells>(),
+        if self.uses_lists() {
+            self.step_with::<Lists>()
+        } else {
+            self.step_with::<Cells>()
         }
     }
 
@@ -145,18 +146,18 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     #[inline]
     pub(super) fn search<S: Search>(&self, i: usize, horizon: f64) -> (f64, u32) {
         let none = (f64::INFINITY, NONE);
-        match &self.nl {
-            Some(nl) if S::LISTS => self.search_list(nl, i, none, horizon),
-            _ => self.search_cells(i, None, none),
+        match S::lists(&self.nl) {
+            Some(nl) => self.search_list(nl, i, none, horizon),
+            None => self.search_cells(i, None, none),
         }
     }
 
     /// Slot `i`'s next crossing, shell exit or wall contact.
     #[inline]
     pub(super) fn aux_event<S: Search>(&self, i: usize) -> (f64, Aux) {
-        match &self.nl {
-            Some(nl) if S::LISTS => self.aux_event_list(nl, i),
-            _ => self.aux_event_cells(i),
+        match S::lists(&self.nl) {
+            Some(nl) => self.aux_event_list(nl, i),
+            None => self.aux_event_cells(i),
         }
     }
 

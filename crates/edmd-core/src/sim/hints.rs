@@ -43,10 +43,8 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         if let Some(next) = hints.next_hint() {
             crate::prefetch::prefetch(&self.particles[next as usize]);
             crate::prefetch::prefetch(&self.meta[next as usize]);
-            if S::LISTS {
-                if let Some(nl) = &self.nl {
-                    nl.prefetch(next as usize);
-                }
+            if let Some(nl) = S::lists(&self.nl) {
+                nl.prefetch(next as usize);
             }
         }
         if !S::LISTS && self.look_ahead.on {
@@ -62,10 +60,8 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     /// Before a collision with slot `j`: its list, which the prediction after it scans.
     #[inline(always)]
     pub(super) fn hint_partner<S: Search>(&self, j: usize) {
-        if S::LISTS {
-            if let Some(nl) = &self.nl {
-                nl.prefetch(j);
-            }
+        if let Some(nl) = S::lists(&self.nl) {
+            nl.prefetch(j);
         }
     }
 

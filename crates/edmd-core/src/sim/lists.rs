@@ -1,12 +1,15 @@
 //! Neighbour-list mode ([`crate::nlist`]): list builds and renewals at shell exits, the search over a
 //! particle's list, and its next shell exit or wall contact.
 
+use std::marker::PhantomData;
+
+use super::contact::image_near;
 use super::{Aux, Lists, Simulation};
 use crate::calendar::Calendar;
-use crate::cells::NONE;
+use crate::cells::{CellGrid, NONE};
 use crate::nlist::NeighbourLists;
 use crate::predict::{pair_time, reach_time};
-use crate::{Boundary, CollisionRule, Vector};
+use crate::{Boundary, CollisionRule, Particle, Vector};
 
 /// Partners per group of the list scan's cheap test (two SSE2 registers of `f64`).
 const LANES: usize = 2;
@@ -24,136 +27,39 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     /// Neighbour-list mode: draws every shell around the particle's current position, files each
     /// particle in the cell of its centre and fills all lists from scratch.
     pub(super) fn build_lists(&mut self) {
-        let Some(mut nl) = self.nl.take() else {
+        let Simulation {
+            nl: Some(nl),
+            particles,
+            meta,
+            grid,
+            box_len,
+            half_box,
+            now,
+            ..
+        } = self
+        else {
             return;
         };
         nl.clear();
-        self.grid.clear();
-        for i in 0..self.particles.len() {
-            let pos = self.wrapped_now(i);
+        grid.clear();
+        for i in 0..particles.len() {
+            let pos = wrapped_now::<D, B>(&mut particles[i], *now, box_len);
             nl.centre[i] = pos;
-            let c = self.grid.coords_of(&pos);
-            self.meta[i].cell = c;
-            self.grid
-                .insert(&mut self.particles, i as u32, self.grid.index(&c));
+            let c = grid.coords_of(&pos);
+            meta[i].cell = c;
+            grid.insert(particles, i as u32, grid.index(&c));
         }
-        for i in 0..self.particles.len() {
-            self.gather(&mut nl, i, true, |nl, j| nl.link(i, j as usize));
-        }
-        self.nl = Some(nl);
-    }
-
-    /// The position of slot `i` now, with its trajectory moved by whole box lengths so that the
-    /// position lies in the box on every periodic axis (neighbour-list mode; no gravity).
-    pub(super) fn wrapped_now(&mut self, i: usize) -> Vector<D> {
-        let now = self.now;
-        let p = &mut self.particles[i];
-        let mut pos = p.r0 + p.vel * now;
-        for a in 0..D {
-            if !B::is_wall(a) {
-                let l = self.box_len[a];
-                if pos[a] < 0.0 {
-                    pos[a] += l;
-                    p.r0[a] += l;
-                } else if pos[a] >= l {
-                    pos[a] -= l;
-                    p.r0[a] -= l;
-                }
-            }
-        }
-        pos
-    }
-
-    /// Hands `found` every particle whose shell centre lies within `σ + δ` of slot `i`'s, found in
-    /// the 3^D cells around `i`'s cell; with `later_only`, only slots above `i` (full builds).
-    pub(super) fn gather(
-        &self,
-        nl: &mut NeighbourLists<D>,
-        i: usize,
-        later_only: bool,
-        mut found: impl FnMut(&mut NeighbourLists<D>, u32),
-    ) {
-        let ci = self.meta[i].cell;
-        let centre = nl.centre[i];
-        let ri = self.particles[i].radius;
-        // Squared distance from the centre to the lower and upper face of its cell, per axis: a
-        // neighbour cell farther than the largest reach cannot hold a neighbour (in 3D about a
-        // quarter of the 27, mostly corners, for a centre anywhere in its cell).
-        let mut face2 = [[0.0; 3]; D];
-        for a in 0..D {
-            let lo = ci[a] as f64 * self.grid.side[a];
-            face2[a][0] = (centre[a] - lo).powi(2);
-            face2[a][2] = (lo + self.grid.side[a] - centre[a]).powi(2);
-        }
-        let far = nl.max_reach * nl.max_reach * (1.0 + 1e-9);
-        // The squared distance to each neighbour cell, by its code Σ_a digit_a 3^a (the order of
-        // `grid.full`), built axis by axis in place: entry k of the first 3^a expands into
-        // k + digit·3^a (higher k first, so that no entry is overwritten before it is read).
-        let mut cell_d2 = [0.0f64; 27];
-        let mut filled = 1;
-        for f in &face2 {
-            for k in (0..filled).rev() {
-                let base = cell_d2[k];
-                for (digit, face) in f.iter().enumerate() {
-                    cell_d2[digit * filled + k] = base + face;
-                }
-            }
-            filled *= 3;
-        }
-        let out_of_reach = |code: usize| cell_d2[code] > far;
-        // The first member of each neighbour cell, all loads started before any list is walked.
-        let mut firsts = [NONE; 27];
-        let mut count = 0;
-        if self.grid.is_interior(&ci) {
-            let c = self.grid.index(&ci) as isize;
-            for (code, &o) in self.grid.full.iter().enumerate() {
-                if out_of_reach(code) {
-                    continue;
-                }
-                firsts[count] = self.grid.first((c + o) as usize);
-                count += 1;
-            }
-        } else {
-            let cells = self.grid.neighbours(&ci, B::is_wall);
-            for (code, &idx) in cells[..3usize.pow(D as u32)].iter().enumerate() {
-                if out_of_reach(code) || idx == usize::MAX {
-                    continue;
-                }
-                firsts[count] = self.grid.first(idx);
-                count += 1;
-            }
-        }
-        for &k in &firsts[..count] {
-            if k != NONE {
-                crate::prefetch::prefetch(&self.particles[k as usize]);
-                crate::prefetch::prefetch(&nl.centre[k as usize]);
-            }
-        }
-        // Centres farther than the reach from every periodic face have no neighbour across one.
-        let wrap = !self.centre_far_from_periodic_faces(&centre, nl.max_reach, nl.max_reach);
-        for &first in &firsts[..count] {
-            let mut k = first;
-            while k != NONE {
-                let j = k as usize;
-                let pj = &self.particles[j];
-                k = pj.next_in_cell;
-                if k != NONE {
-                    crate::prefetch::prefetch(&self.particles[k as usize]);
-                    crate::prefetch::prefetch(&nl.centre[k as usize]);
-                }
-                if j == i || (later_only && j < i) {
-                    continue;
-                }
-                let d = if wrap {
-                    self.image_near(&centre, &nl.centre[j]) - nl.centre[j]
-                } else {
-                    centre - nl.centre[j]
-                };
-                let reach = ri + pj.radius + nl.skin;
-                if d.norm_squared() < reach * reach {
-                    found(nl, j as u32);
-                }
-            }
+        let space = Space::<D, B> {
+            particles,
+            grid,
+            box_len,
+            half_box,
+            _boundary: PhantomData,
+        };
+        for i in 0..space.particles.len() {
+            nl.gather(&space, &meta[i].cell, i, true, |nl, j| {
+                nl.link(i, j as usize)
+            });
         }
     }
 
@@ -161,23 +67,38 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     /// prediction. Its trajectory is unchanged, so every other particle's event stays valid.
     pub(super) fn renew_list(&mut self, i: usize) {
         self.counters.crossings += 1;
-        let Some(mut nl) = self.nl.take() else {
+        let Simulation {
+            nl: Some(nl),
+            particles,
+            meta,
+            grid,
+            box_len,
+            half_box,
+            now,
+            ..
+        } = self
+        else {
             return;
         };
-        let pos = self.wrapped_now(i);
+        let pos = wrapped_now::<D, B>(&mut particles[i], *now, box_len);
         nl.centre[i] = pos;
-        let c = self.grid.coords_of(&pos);
-        if c != self.meta[i].cell {
-            let old = self.grid.index(&self.meta[i].cell);
-            self.grid.remove(&mut self.particles, i as u32, old);
-            self.grid
-                .insert(&mut self.particles, i as u32, self.grid.index(&c));
-            self.meta[i].cell = c;
+        let c = grid.coords_of(&pos);
+        if c != meta[i].cell {
+            let old = grid.index(&meta[i].cell);
+            grid.remove(particles, i as u32, old);
+            grid.insert(particles, i as u32, grid.index(&c));
+            meta[i].cell = c;
         }
+        let space = Space::<D, B> {
+            particles,
+            grid,
+            box_len,
+            half_box,
+            _boundary: PhantomData,
+        };
         nl.fresh.clear();
-        self.gather(&mut nl, i, false, |nl, j| nl.fresh.push(j));
+        nl.gather(&space, &c, i, false, |nl, j| nl.fresh.push(j));
         nl.renew(i);
-        self.nl = Some(nl);
         self.predict::<Lists>(i);
     }
 
@@ -212,18 +133,13 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     /// equals the nearest image that [`Self::image_near`] would take.
     #[inline(always)]
     fn far_from_periodic_faces(&self, nl: &NeighbourLists<D>, i: usize) -> bool {
-        self.centre_far_from_periodic_faces(&nl.centre[i], nl.max_reach, nl.max_reach + nl.skin)
-    }
-
-    /// Whether `c` lies farther than `margin` from every periodic face and `span` (≥ `margin`) is
-    /// below half the box: then every point within `margin` of it is its own nearest image, and so
-    /// is every separation up to `span` between points on the same side of the faces.
-    #[inline(always)]
-    fn centre_far_from_periodic_faces(&self, c: &Vector<D>, margin: f64, span: f64) -> bool {
-        (0..D).all(|a| {
-            B::is_wall(a)
-                || (span < self.half_box[a] && c[a] > margin && c[a] < self.box_len[a] - margin)
-        })
+        centre_far_from_periodic_faces::<D, B>(
+            &self.box_len,
+            &self.half_box,
+            &nl.centre[i],
+            nl.max_reach,
+            nl.max_reach + nl.skin,
+        )
     }
 
     /// The list scan of [`Self::search_list`], with (`WRAP`) or without nearest images.
@@ -378,4 +294,158 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         }
         best
     }
+}
+
+/// What the list builds read of the simulation, borrowed beside the lists they fill.
+struct Space<'a, const D: usize, B> {
+    particles: &'a [Particle<D>],
+    grid: &'a CellGrid<D>,
+    box_len: &'a Vector<D>,
+    half_box: &'a Vector<D>,
+    _boundary: PhantomData<B>,
+}
+
+impl<const D: usize> NeighbourLists<D> {
+    /// Hands `found` every particle whose shell centre lies within `σ + δ` of slot `i`'s, found in
+    /// the 3^D cells around `i`'s cell; with `later_only`, only slots above `i` (full builds). `ci` is `i`'s cell.
+    #[inline(always)]
+    fn gather<B: Boundary>(
+        &mut self,
+        space: &Space<'_, D, B>,
+        ci: &[u32; D],
+        i: usize,
+        later_only: bool,
+        mut found: impl FnMut(&mut Self, u32),
+    ) {
+        let nl = self;
+        let (particles, grid) = (space.particles, space.grid);
+        let ci = *ci;
+        let centre = nl.centre[i];
+        let ri = particles[i].radius;
+        // Squared distance from the centre to the lower and upper face of its cell, per axis: a
+        // neighbour cell farther than the largest reach cannot hold a neighbour (in 3D about a
+        // quarter of the 27, mostly corners, for a centre anywhere in its cell).
+        let mut face2 = [[0.0; 3]; D];
+        for a in 0..D {
+            let lo = ci[a] as f64 * grid.side[a];
+            face2[a][0] = (centre[a] - lo).powi(2);
+            face2[a][2] = (lo + grid.side[a] - centre[a]).powi(2);
+        }
+        let far = nl.max_reach * nl.max_reach * (1.0 + 1e-9);
+        // The squared distance to each neighbour cell, by its code Σ_a digit_a 3^a (the order of
+        // `grid.full`), built axis by axis in place: entry k of the first 3^a expands into
+        // k + digit·3^a (higher k first, so that no entry is overwritten before it is read).
+        let mut cell_d2 = [0.0f64; 27];
+        let mut filled = 1;
+        for f in &face2 {
+            for k in (0..filled).rev() {
+                let base = cell_d2[k];
+                for (digit, face) in f.iter().enumerate() {
+                    cell_d2[digit * filled + k] = base + face;
+                }
+            }
+            filled *= 3;
+        }
+        let out_of_reach = |code: usize| cell_d2[code] > far;
+        // The first member of each neighbour cell, all loads started before any list is walked.
+        let mut firsts = [NONE; 27];
+        let mut count = 0;
+        if grid.is_interior(&ci) {
+            let c = grid.index(&ci) as isize;
+            for (code, &o) in grid.full.iter().enumerate() {
+                if out_of_reach(code) {
+                    continue;
+                }
+                firsts[count] = grid.first((c + o) as usize);
+                count += 1;
+            }
+        } else {
+            let cells = grid.neighbours(&ci, B::is_wall);
+            for (code, &idx) in cells[..3usize.pow(D as u32)].iter().enumerate() {
+                if out_of_reach(code) || idx == usize::MAX {
+                    continue;
+                }
+                firsts[count] = grid.first(idx);
+                count += 1;
+            }
+        }
+        for &k in &firsts[..count] {
+            if k != NONE {
+                crate::prefetch::prefetch(&particles[k as usize]);
+                crate::prefetch::prefetch(&nl.centre[k as usize]);
+            }
+        }
+        // Centres farther than the reach from every periodic face have no neighbour across one.
+        let wrap = !centre_far_from_periodic_faces::<D, B>(
+            space.box_len,
+            space.half_box,
+            &centre,
+            nl.max_reach,
+            nl.max_reach,
+        );
+        for &first in &firsts[..count] {
+            let mut k = first;
+            while k != NONE {
+                let j = k as usize;
+                let pj = &particles[j];
+                k = pj.next_in_cell;
+                if k != NONE {
+                    crate::prefetch::prefetch(&particles[k as usize]);
+                    crate::prefetch::prefetch(&nl.centre[k as usize]);
+                }
+                if j == i || (later_only && j < i) {
+                    continue;
+                }
+                let d = if wrap {
+                    image_near::<D, B>(space.box_len, space.half_box, &centre, &nl.centre[j])
+                        - nl.centre[j]
+                } else {
+                    centre - nl.centre[j]
+                };
+                let reach = ri + pj.radius + nl.skin;
+                if d.norm_squared() < reach * reach {
+                    found(nl, j as u32);
+                }
+            }
+        }
+    }
+}
+
+/// The position of particle `p` at local time `now`, with its trajectory moved by whole box lengths
+/// so that the position lies in the box on every periodic axis (neighbour-list mode; no gravity).
+fn wrapped_now<const D: usize, B: Boundary>(
+    p: &mut Particle<D>,
+    now: f64,
+    box_len: &Vector<D>,
+) -> Vector<D> {
+    let mut pos = p.r0 + p.vel * now;
+    for a in 0..D {
+        if !B::is_wall(a) {
+            let l = box_len[a];
+            if pos[a] < 0.0 {
+                pos[a] += l;
+                p.r0[a] += l;
+            } else if pos[a] >= l {
+                pos[a] -= l;
+                p.r0[a] -= l;
+            }
+        }
+    }
+    pos
+}
+
+/// Whether `c` lies farther than `margin` from every periodic face and `span` (≥ `margin`) is
+/// below half the box: then every point within `margin` of it is its own nearest image, and so
+/// is every separation up to `span` between points on the same side of the faces.
+#[inline(always)]
+fn centre_far_from_periodic_faces<const D: usize, B: Boundary>(
+    box_len: &Vector<D>,
+    half_box: &Vector<D>,
+    c: &Vector<D>,
+    margin: f64,
+    span: f64,
+) -> bool {
+    (0..D).all(|a| {
+        B::is_wall(a) || (span < half_box[a] && c[a] > margin && c[a] < box_len[a] - margin)
+    })
 }

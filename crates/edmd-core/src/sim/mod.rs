@@ -76,11 +76,17 @@ pub(crate) enum Aux {
 }
 
 /// How a simulation finds its neighbours, fixed at construction: [`Cells`] or [`Lists`]. The event
-/// loop is compiled once for each, and the choice is matched once per [`Simulation::step`] or per
-/// run, never inside a search.
+/// loop is compiled once for each, and the choice is made once per [`Simulation::step`] or per
+/// run ([`Simulation::uses_lists`]), never inside a search.
+///
+/// The cell grid serves both (list mode files shell centres in cells of side σ + δ); the lists are
+/// list mode's own data, which [`Search::lists`] hands out: never for [`Cells`], so the cell-mode
+/// loop holds no list code at all, and always for [`Lists`].
 pub(crate) trait Search {
     /// Neighbour lists with a skin (else cell crossings).
     const LISTS: bool;
+    /// The neighbour lists, where this strategy has them.
+    fn lists<const D: usize>(nl: &Option<NeighbourLists<D>>) -> Option<&NeighbourLists<D>>;
 }
 
 /// Cell mode: crossings between cells of side ≥ the largest diameter.
@@ -93,10 +99,18 @@ pub(crate) struct Lists;
 
 impl Search for Cells {
     const LISTS: bool = false;
+    #[inline(always)]
+    fn lists<const D: usize>(_: &Option<NeighbourLists<D>>) -> Option<&NeighbourLists<D>> {
+        None
+    }
 }
 
 impl Search for Lists {
     const LISTS: bool = true;
+    #[inline(always)]
+    fn lists<const D: usize>(nl: &Option<NeighbourLists<D>>) -> Option<&NeighbourLists<D>> {
+        nl.as_ref()
+    }
 }
 
 /// Per-particle pending event.

@@ -10,7 +10,15 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     /// True if neighbour lists replace cell crossings ([`SimParams::neighbour_skin`] > 0, no gravity,
     /// and a box of at least three cells of side `σ + δ`).
     pub fn uses_neighbour_lists(&self) -> bool {
-        self.nl.is_some()
+        self.uses_lists()
+    }
+
+    /// [`Self::uses_neighbour_lists`] as the one place the event loop chooses its strategy. A scene
+    /// with gravity never has lists (`Simulation::new`), and the constant makes that known to the
+    /// compiler: the list-mode loop is not compiled into those scenes at all.
+    #[inline(always)]
+    pub(super) fn uses_lists(&self) -> bool {
+        !B::GRAVITY && self.nl.is_some()
     }
 
     /// Number of particles.

@@ -34,9 +34,10 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
 
     /// Runs until `stop`.
     pub fn run(&mut self, stop: Stop) -> RunEnd {
-        match self.nl {
-            Some(_) => self.run_with::<Lists>(stop),
-            None => self.run_with::<Cells>(stop),
+        if self.uses_lists() {
+            self.run_with::<Lists>(stop)
+        } else {
+            self.run_with::<Cells>(stop)
         }
     }
 
@@ -99,9 +100,10 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         schedule: &crate::schedule::Schedule,
         observe: impl FnMut(&Self),
     ) -> RunEnd {
-        match self.nl {
-            Some(_) => self.run_sampled_with::<Lists>(stop, schedule, observe),
-            None => self.run_sampled_with::<Cells>(stop, schedule, observe),
+        if self.uses_lists() {
+            self.run_sampled_with::<Lists>(stop, schedule, observe)
+        } else {
+            self.run_sampled_with::<Cells>(stop, schedule, observe)
         }
     }
 

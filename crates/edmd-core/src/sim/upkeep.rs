@@ -15,9 +15,10 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         let n = self.particles.len();
         self.rebase_clock();
         self.sort_by_cell();
-        let (sum, count) = match self.nl {
-            Some(_) => self.predict_all::<Lists>(),
-            None => self.predict_all::<Cells>(),
+        let (sum, count) = if self.uses_lists() {
+            self.predict_all::<Lists>()
+        } else {
+            self.predict_all::<Cells>()
         };
         // Each event renews about 1.5 predictions: the mean time between events is ≈ ⟨Δt⟩ / (0.7 N).
         let width = if count > 0 && sum > 0.0 {
