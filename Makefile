@@ -2,7 +2,8 @@
 #   make run       the quick default sweep (sweeps/quick.json): phase table, files and a figure report
 #                  (edmd-out/quick/report/index.html)
 #   make figures   the report of the quick sweep, or of any sweep with OUT=dir
-#   make test      everything CI checks (format, lints, Rust tests, Python tests, Slurm, benchmark smoke run)
+#   make test      everything CI checks (format, lints, Rust tests with the edmd-bench smoke run, Python
+#                  tests, Slurm)
 #   make check     daily work: format check, clippy and the Rust tests
 #   make bench     collisions/s and peak bytes per particle over N and phi (or one case: D= N= PHI= EPS=)
 #   make bench-nightly  the fixed benchmark matrix with history and regression flags
@@ -73,7 +74,7 @@ lint: lint-rust lint-python
 
 lint-rust:
 	$(CARGO) fmt --all -- --check
-	$(CARGO) clippy --workspace --all-targets -- -D warnings
+	$(CARGO) clippy --workspace --all-targets --features edmd/bench -- -D warnings
 
 lint-python:
 	$(VENV)/bin/ruff check analysis scripts tests
@@ -81,11 +82,16 @@ lint-python:
 # Daily work: format check, lints and the Rust tests, without the Python, Slurm and benchmark parts.
 check:
 	$(CARGO) fmt --all -- --check
-	$(CARGO) clippy --workspace --all-targets -- -D warnings
-	$(CARGO) test --workspace
+	$(CARGO) clippy --workspace --all-targets --features edmd/bench -- -D warnings
+	$(CARGO) test $(RUST_TESTS)
+
+# The Rust tests: unit, integration and doc tests (the examples are compiled by clippy, the criterion
+# benchmarks by `make bench-smoke`).
+RUST_TESTS := --workspace --lib --bins --tests
 
 test-rust:
-	$(CARGO) test --workspace
+	$(CARGO) test $(RUST_TESTS)
+	$(CARGO) test --workspace --doc
 
 # The Python and Slurm tests drive the binary `cargo test` builds (test profile: opt-level 3 with debug
 # assertions, no LTO): after test-rust it is already there, so `make test` links the sweep code once
@@ -93,17 +99,17 @@ test-rust:
 TEST_BIN := $(CURDIR)/target/debug/edmd
 
 test-bin:
-	$(CARGO) test -q --workspace --no-run
+	+$(CARGO) test -q $(RUST_TESTS) --no-run
 
 test-python: test-bin run-python-tests
 
 test-slurm: test-bin run-slurm-tests
 
-# The calendar benchmark runs once in criterion's test mode: a smoke run, not a measurement (that is
-# `make bench`). `--workspace` keeps the dependency features of the workspace test build, so nothing is
-# rebuilt. The edmd-bench smoke run is an integration test (tests/bench_smoke.rs) of `cargo test`.
-bench-smoke: test-bin
-	$(CARGO) test -q --workspace --bench calendar
+# The criterion benchmarks run once in criterion's test mode: a smoke run, not a measurement (that is
+# `make bench`). Not part of `make test`, which runs the edmd-bench smoke run instead (an integration
+# test, tests/bench_smoke.rs) and leaves criterion out of its build.
+bench-smoke:
+	$(CARGO) test -q --features bench --bench calendar --bench throughput
 
 # The parts of `make test` that only run what test-bin built; they call no cargo that builds, so
 # they can run side by side (cargo holds its build lock while it runs the Rust tests).
@@ -114,8 +120,8 @@ run-slurm-tests:
 	PY=$(CURDIR)/$(VENV)/bin/python EDMD=$(TEST_BIN) bash tests/slurm/test-slurm.sh
 
 run-rust-tests:
-	$(CARGO) test -q --workspace
-	$(CARGO) test -q --workspace --bench calendar
+	+$(CARGO) test -q $(RUST_TESTS)
+	+$(CARGO) test -q --workspace --doc
 
 # Everything CI checks, scheduled for a 2-core machine (docs/benchmarks.md, "The lean build"): the
 # venv is made while the tests build; clippy runs after the build, whose build scripts and proc
