@@ -97,9 +97,12 @@ test-rust:
 # assertions, no LTO): after test-rust it is already there, so `make test` links the sweep code once
 # instead of twice (the LTO release build alone takes minutes on 2 cores). `make run` uses release.
 TEST_BIN := $(CURDIR)/target/debug/edmd
+# Cargo under `make -j` with its own job slots (one per core): make's jobserver is not handed to it,
+# so that each part's output stays together (`--output-sync`).
+CARGO_ALONE := env -u MAKEFLAGS -u MFLAGS $(CARGO)
 
 test-bin:
-	+$(CARGO) test -q $(RUST_TESTS) --no-run
+	$(CARGO_ALONE) test -q $(RUST_TESTS) --no-run
 
 test-python: test-bin run-python-tests
 
@@ -120,8 +123,8 @@ run-slurm-tests:
 	PY=$(CURDIR)/$(VENV)/bin/python EDMD=$(TEST_BIN) bash tests/slurm/test-slurm.sh
 
 run-rust-tests:
-	+$(CARGO) test -q $(RUST_TESTS)
-	+$(CARGO) test -q --workspace --doc
+	$(CARGO_ALONE) test -q $(RUST_TESTS)
+	$(CARGO_ALONE) test -q --workspace --doc
 
 # Everything CI checks, scheduled for a 2-core machine (docs/benchmarks.md, "The lean build"): the
 # venv is made while the tests build; clippy runs after the build, whose build scripts and proc

@@ -4,7 +4,7 @@
 use std::marker::PhantomData;
 
 use super::contact::image_near;
-use super::{Aux, Lists, Simulation};
+use super::{Aux, Lists, Meta, Simulation};
 use crate::calendar::Calendar;
 use crate::cells::{CellGrid, NONE};
 use crate::nlist::NeighbourLists;
@@ -27,39 +27,21 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     /// Neighbour-list mode: draws every shell around the particle's current position, files each
     /// particle in the cell of its centre and fills all lists from scratch.
     pub(super) fn build_lists(&mut self) {
-        let Simulation {
-            nl: Some(nl),
-            particles,
-            meta,
-            grid,
-            box_len,
-            half_box,
-            now,
-            ..
-        } = self
-        else {
+        let Some(mut l) = self.list_parts() else {
             return;
         };
-        nl.clear();
-        grid.clear();
-        for i in 0..particles.len() {
-            let pos = wrapped_now::<D, B>(&mut particles[i], *now, box_len);
-            nl.centre[i] = pos;
-            let c = grid.coords_of(&pos);
-            meta[i].cell = c;
-            grid.insert(particles, i as u32, grid.index(&c));
+        l.nl.clear();
+        l.grid.clear();
+        for i in 0..l.particles.len() {
+            let pos = l.wrap_centre(i);
+            let c = l.grid.coords_of(&pos);
+            l.meta[i].cell = c;
+            let idx = l.grid.index(&c);
+            l.grid.insert(l.particles, i as u32, idx);
         }
-        let space = Space::<D, B> {
-            particles,
-            grid,
-            box_len,
-            half_box,
-            _boundary: PhantomData,
-        };
-        for i in 0..space.particles.len() {
-            nl.gather(&space, &meta[i].cell, i, true, |nl, j| {
-                nl.link(i, j as usize)
-            });
+        for i in 0..l.particles.len() {
+            let ci = l.meta[i].cell;
+            l.gather(&ci, i, true, |nl, j| nl.link(i, j as usize));
         }
     }
 
@@ -67,6 +49,27 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     /// prediction. Its trajectory is unchanged, so every other particle's event stays valid.
     pub(super) fn renew_list(&mut self, i: usize) {
         self.counters.crossings += 1;
+        let Some(mut l) = self.list_parts() else {
+            return;
+        };
+        let pos = l.wrap_centre(i);
+        let c = l.grid.coords_of(&pos);
+        if c != l.meta[i].cell {
+            let old = l.grid.index(&l.meta[i].cell);
+            l.grid.remove(l.particles, i as u32, old);
+            let idx = l.grid.index(&c);
+            l.grid.insert(l.particles, i as u32, idx);
+            l.meta[i].cell = c;
+        }
+        l.nl.fresh.clear();
+        l.gather(&c, i, false, |nl, j| nl.fresh.push(j));
+        l.nl.renew(i);
+        self.predict::<Lists>(i);
+    }
+
+    /// The lists and, borrowed beside them, what their builds change and read (`None` in cell
+    /// mode).
+    fn list_parts(&mut self) -> Option<ListParts<'_, D, B>> {
         let Simulation {
             nl: Some(nl),
             particles,
@@ -78,28 +81,18 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             ..
         } = self
         else {
-            return;
+            return None;
         };
-        let pos = wrapped_now::<D, B>(&mut particles[i], *now, box_len);
-        nl.centre[i] = pos;
-        let c = grid.coords_of(&pos);
-        if c != meta[i].cell {
-            let old = grid.index(&meta[i].cell);
-            grid.remove(particles, i as u32, old);
-            grid.insert(particles, i as u32, grid.index(&c));
-            meta[i].cell = c;
-        }
-        let space = Space::<D, B> {
+        Some(ListParts {
+            nl,
             particles,
+            meta,
             grid,
             box_len,
             half_box,
+            now: *now,
             _boundary: PhantomData,
-        };
-        nl.fresh.clear();
-        nl.gather(&space, &c, i, false, |nl, j| nl.fresh.push(j));
-        nl.renew(i);
-        self.predict::<Lists>(i);
+        })
     }
 
     /// Earliest contact of slot `i` (at now) with its listed neighbours, of those before `horizon`
@@ -296,7 +289,47 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     }
 }
 
-/// What the list builds read of the simulation, borrowed beside the lists they fill.
+/// The lists and the parts of the simulation their builds change and read, borrowed side by side.
+struct ListParts<'a, const D: usize, B> {
+    nl: &'a mut NeighbourLists<D>,
+    particles: &'a mut Vec<Particle<D>>,
+    meta: &'a mut [Meta<D>],
+    grid: &'a mut CellGrid<D>,
+    box_len: &'a Vector<D>,
+    half_box: &'a Vector<D>,
+    now: f64,
+    _boundary: PhantomData<B>,
+}
+
+impl<const D: usize, B: Boundary> ListParts<'_, D, B> {
+    /// Centres slot `i`'s shell on its position now (wrapped into the box); returns the position.
+    fn wrap_centre(&mut self, i: usize) -> Vector<D> {
+        let pos = wrapped_now::<D, B>(&mut self.particles[i], self.now, self.box_len);
+        self.nl.centre[i] = pos;
+        pos
+    }
+
+    /// [`NeighbourLists::gather`] for slot `i` in cell `ci`.
+    #[inline(always)]
+    fn gather(
+        &mut self,
+        ci: &[u32; D],
+        i: usize,
+        later_only: bool,
+        found: impl FnMut(&mut NeighbourLists<D>, u32),
+    ) {
+        let space = Space::<D, B> {
+            particles: self.particles,
+            grid: self.grid,
+            box_len: self.box_len,
+            half_box: self.half_box,
+            _boundary: PhantomData,
+        };
+        self.nl.gather(&space, ci, i, later_only, found);
+    }
+}
+
+/// What [`NeighbourLists::gather`] reads of the simulation.
 struct Space<'a, const D: usize, B> {
     particles: &'a [Particle<D>],
     grid: &'a CellGrid<D>,
