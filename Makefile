@@ -26,7 +26,7 @@ ifdef MEDIA
 APT_PACKAGES += ffmpeg chromium-headless-shell
 endif
 
-.PHONY: all deps deps-system venv build run figures demo cli check test test-rust test-bin test-python lint lint-rust lint-python bench bench-smoke bench-nightly bench-accuracy stress test-slurm run-rust-tests run-python-tests run-slurm-tests validate clean
+.PHONY: all deps deps-system venv release-bin build run figures demo cli check test test-rust test-bin test-python lint lint-rust lint-python bench bench-smoke bench-nightly bench-accuracy stress test-slurm run-rust-tests run-python-tests run-slurm-tests validate clean
 
 all: build
 
@@ -52,9 +52,10 @@ venv:
 build:
 	$(CARGO) build --release --workspace --all-targets
 
-# The first build shows cargo's progress (a minute or two on 2 cores); later runs start at once.
-run: deps
-	$(CARGO) build --release -p edmd-cli --bin edmd
+# The first build shows cargo's progress (two minutes or so on 2 cores, the venv made meanwhile);
+# later runs start at once.
+run: deps-system
+	@$(MAKE) --no-print-directory -j2 venv release-bin
 	target/release/edmd run -o edmd-out/quick
 	$(VENV)/bin/python -m edmd_analysis report edmd-out/quick -o edmd-out/quick/report
 
@@ -65,6 +66,9 @@ figures: deps
 
 demo:
 	$(CARGO) run --release -q -p edmd-core --example cooling
+
+release-bin:
+	$(CARGO_ALONE) build --release -p edmd-cli --bin edmd
 
 # The release binary the Python tests drive.
 cli:
