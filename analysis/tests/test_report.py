@@ -32,3 +32,18 @@ def test_report_cli(sweep, partial_sweep, tmp_path, capsys):
 def test_report_needs_a_sweep(tmp_path):
     with pytest.raises(FileNotFoundError):
         report_module.report(tmp_path, tmp_path / "r")
+
+
+def test_figures_drawn_in_parallel_are_those_drawn_one_at_a_time(sweep, tmp_path):
+    one = report_module.report(sweep, tmp_path / "one", movies=False, jobs=1).parent
+    two = report_module.report(sweep, tmp_path / "two", movies=False, jobs=2).parent
+    names = sorted(p.name for p in one.iterdir())
+    assert names == sorted(p.name for p in two.iterdir()) and "cooling-loglog.png" in names
+    for name in names:
+        assert (one / name).read_bytes() == (two / name).read_bytes(), name
+
+
+def test_report_jobs_must_be_positive(sweep, tmp_path, capsys):
+    assert main(["report", str(sweep), "-o", str(tmp_path / "r"), "--jobs", "0"]) == 1
+    assert "--jobs 0" in capsys.readouterr().err
+    assert not (tmp_path / "r").exists()

@@ -18,6 +18,8 @@ def main(argv=None) -> int:
     rep.add_argument("--max-points", type=int, default=24, help="grid points drawn (default 24)")
     rep.add_argument("--no-movies", action="store_true",
                      help="skip the movie of one replica per class")
+    rep.add_argument("--jobs", type=int, help="figures drawn at a time, one process each (default: "
+                     "one per core)")
     mov = sub.add_parser("movie", help="an animation of one replica from its snapshots (GIF; MP4 "
                          "too when ffmpeg is present)")
     mov.add_argument("out", help="sweep output directory, or one replica file")
@@ -38,7 +40,7 @@ def main(argv=None) -> int:
     try:
         if args.command == "report":
             page = report(args.out, args.output or f"{args.out}/report", args.max_points,
-                          movies=not args.no_movies)
+                          movies=not args.no_movies, jobs=args.jobs)
             print(f"report: {page}")
         else:
             if args.fps <= 0:

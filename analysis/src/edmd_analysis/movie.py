@@ -198,6 +198,13 @@ def movie(source, replica: Optional[int] = None, output=None, fps: float = 5.0,
               f"{head}\ntau = {snaps.tau[f]:.1f}   T/T0 = {ratio[f]:.3g}")
         return []
 
+    # The layout of the first frame holds for all (the same axes, colour bar and two-line title):
+    # laid out once, not per frame, which was half of a movie's time.
+    fig.set_dpi(dpi)
+    update(0)
+    fig.canvas.draw()
+    fig.set_layout_engine("none")
+
     anim = animation.FuncAnimation(fig, update, frames=len(frames), blit=False)
     written = []
     for o in outputs:

@@ -17,8 +17,12 @@ from __future__ import annotations
 
 import html
 import json
+import multiprocessing
+import os
 import shutil
+import sys
 from pathlib import Path
+from typing import Optional
 
 import matplotlib
 
@@ -133,11 +137,12 @@ def legend(name: str) -> str:
     return ""
 
 
-def _movies(index: io.Index, dest: Path, saved: list, max_frames: int = 40):
+def _movie_tasks(index: io.Index, dest: Path, max_frames: int = 40):
     """One short GIF per class (the first replica of each class with two or more snapshots; one
-    movie of the first such replica when the sweep is not classified)."""
+    movie of the first such replica when the sweep is not classified), as tasks."""
     classes = [str(c) for c in index["class"]] if "class" in index.columns else [""] * len(index)
     wanted = [c for c in MOVIE_CLASSES if c in classes] or [None]
+    tasks = []
     for c in wanted:
         for i in range(len(index)):
             if (c is not None and classes[i] != c) or index["status"][i] in ("failed", "missing", "corrupt"):
@@ -149,22 +154,96 @@ def _movies(index: io.Index, dest: Path, saved: list, max_frames: int = 40):
             except (io.SchemaError, FileNotFoundError):
                 continue
             name = f"movie-{c or 'replica'}-r{int(index['index'][i]):05d}.gif"
-            movie.movie(path, output=dest / name, max_frames=max_frames, dpi=64)
-            saved.append(name)
+            tasks.append((_movie_figure, (path, dest / name, max_frames)))
             break
+    return tasks
 
 
-def report(out, dest, max_points: int = 24, movies: bool = True) -> Path:
+def _movie_figure(path: Path, output: Path, max_frames: int):
+    movie.movie(path, output=output, max_frames=max_frames, dpi=64)
+    return [output.name]
+
+
+def _panel_figure(dest: Path, name: str, draw, paths, titles, read=io.read_replica):
+    """One panel per replica file: ``draw(ax, read(path))``, titled."""
+    saved: list = []
+    fig, axes = _panels(len(paths))
+    for ax, path, title in zip(axes, paths, titles):
+        draw(ax, read(path))
+        ax.set_title(title, fontsize="small")
+    _save(fig, dest, name, saved)
+    return saved
+
+
+def _cooling_log(ax, rep):
+    plots.cooling(ax, rep, log_tau=True)
+
+
+def _cooling_linear(ax, rep):
+    plots.cooling(ax, rep, log_tau=False)
+
+
+def _snapshot_figure(dest: Path, name: str, path: Path, title: str):
+    saved: list = []
+    snaps = io.read_snapshots(path)
+    # At most SNAPSHOT_PANELS snapshots, evenly spread over those stored (first and last kept);
+    # the movies show them all.
+    k = len(snaps.step)
+    shown = np.unique(np.linspace(0, k - 1, min(k, SNAPSHOT_PANELS)).round().astype(int))
+    fig, axes = _panels(len(shown), 4.0, 4.0)
+    for j, ax in zip(shown, axes):
+        plots.snapshot(ax, snaps, k=j)
+    fig.suptitle(title)
+    _save(fig, dest, name, saved)
+    return saved
+
+
+def _phase_figure(dest: Path, rows):
+    saved: list = []
+    fig, ax = plt.subplots(figsize=(6.5, 5))
+    plots.phase_diagram(ax, rows, x=_x_axis(rows), y=_y_axis(rows))
+    _save(fig, dest, "phase-diagram", saved)
+    return saved
+
+
+def _run(task):
+    draw, args = task
+    return draw(*args)
+
+
+def _render(tasks, jobs: int):
+    """Runs the figure tasks, ``jobs`` at a time in worker processes (each figure is independent
+    and matplotlib is single-threaded); returns the files written, in the tasks' order."""
+    jobs = max(1, min(jobs, len(tasks)))
+    if jobs == 1:
+        return [name for task in tasks for name in _run(task)]
+    # fork shares the imported matplotlib with the workers (spawn re-imports it, ~2 s each);
+    # macOS forbids fork after its GUI frameworks load, so it spawns.
+    method = "fork" if sys.platform.startswith("linux") else "spawn"
+    with multiprocessing.get_context(method).Pool(jobs) as pool:
+        # The longest tasks (the movies) first, one task per dispatch, results in task order.
+        order = sorted(range(len(tasks)), key=lambda k: tasks[k][0] is not _movie_figure)
+        done = pool.map(_run, [tasks[k] for k in order], chunksize=1)
+    names = [None] * len(tasks)
+    for k, result in zip(order, done):
+        names[k] = result
+    return [name for result in names for name in result]
+
+
+def report(out, dest, max_points: int = 24, movies: bool = True, jobs: Optional[int] = None) -> Path:
     """Writes the report of the sweep in ``out`` into ``dest``; returns the path of index.html.
-    ``movies=False`` skips the movies (one per class)."""
+    ``movies=False`` skips the movies (one per class); ``jobs`` figures are drawn at a time (default:
+    one per core)."""
     out, dest = Path(out), Path(dest)
     if not out.is_dir():
         raise ValueError(f"{out}: not a sweep output directory (edmd run -o OUT)")
+    if jobs is not None and jobs < 1:
+        raise ValueError(f"--jobs {jobs}: must be at least 1")
     index = io.read_index(out)
     created = not dest.exists()
     try:
         dest.mkdir(parents=True, exist_ok=True)
-        return _write_report(out, dest, index, max_points, movies)
+        return _write_report(out, dest, index, max_points, movies, jobs or os.cpu_count() or 1)
     except BaseException:
         # A report that failed leaves no empty or half-written directory of its own making.
         if created and dest.is_dir():
@@ -172,62 +251,43 @@ def report(out, dest, max_points: int = 24, movies: bool = True) -> Path:
         raise
 
 
-def _write_report(out: Path, dest: Path, index, max_points: int, movies: bool) -> Path:
+def _write_report(out: Path, dest: Path, index, max_points: int, movies: bool, jobs: int) -> Path:
     """The body of :func:`report`, into the existing directory ``dest``."""
     phase_path = out / "phase.json"
     rows = json.loads(phase_path.read_text()) if phase_path.exists() else []
     chosen = _first_seed_per_point(index, max_points)
-    saved: list = []
-    reps = [io.read_replica(index.replica_path(i)) for i in chosen]
-    if reps:
-        for log_tau, name in ((True, "cooling-loglog"), (False, "cooling-semilog")):
-            fig, axes = _panels(len(reps))
-            for ax, rep, i in zip(axes, reps, chosen):
-                plots.cooling(ax, rep, log_tau=log_tau)
-                ax.set_title(_title(index, i), fontsize="small")
-            _save(fig, dest, name, saved)
-    two_d = [i for i in chosen if index["dim"][i] == 2]
-    for i in two_d:
-        snaps = io.read_snapshots(index.replica_path(i))
-        # At most SNAPSHOT_PANELS snapshots, evenly spread over those stored (first and last kept);
-        # the movies show them all.
-        k = len(snaps.step)
-        shown = np.unique(np.linspace(0, k - 1, min(k, SNAPSHOT_PANELS)).round().astype(int))
-        fig, axes = _panels(len(shown), 4.0, 4.0)
-        for j, ax in zip(shown, axes):
-            plots.snapshot(ax, snaps, k=j)
-        fig.suptitle(_title(index, i))
-        _save(fig, dest, f"snapshots-r{int(index['index'][i]):05d}", saved)
+    paths = [index.replica_path(i) for i in chosen]
+    titles = [_title(index, i) for i in chosen]
+    # What each replica holds decides the figures; the tasks read their data themselves.
+    held = [set(io.read_replica(p).observables) for p in paths]
+    tasks = []
     if chosen:
-        fig, axes = _panels(len(chosen))
-        for ax, i in zip(axes, chosen):
-            plots.velocity_histograms(ax, io.read_snapshots(index.replica_path(i)))
-            ax.set_title(_title(index, i), fontsize="small")
-        _save(fig, dest, "velocity-histograms", saved)
+        tasks.append((_panel_figure, (dest, "cooling-loglog", _cooling_log, paths, titles)))
+        tasks.append((_panel_figure, (dest, "cooling-semilog", _cooling_linear, paths, titles)))
+    for i, path in zip(chosen, paths):
+        if index["dim"][i] == 2:
+            tasks.append((_snapshot_figure, (dest, f"snapshots-r{int(index['index'][i]):05d}", path,
+                                             _title(index, i))))
+    if chosen:
+        tasks.append((_panel_figure, (dest, "velocity-histograms", plots.velocity_histograms, paths,
+                                      titles, io.read_snapshots)))
     for name, plot, needs in (("rotational-ratio", plots.rotational_ratio, "rotational_temperature"),
                               ("species-temperatures", plots.species_temperatures, "species_temperature"),
                               ("density-profiles", plots.density_profile, "density_profile")):
-        having = [(rep, i) for rep, i in zip(reps, chosen) if needs in rep.observables]
+        having = [k for k in range(len(chosen)) if needs in held[k]]
         if having:
-            fig, axes = _panels(len(having))
-            for ax, (rep, i) in zip(axes, having):
-                plot(ax, rep)
-                ax.set_title(_title(index, i), fontsize="small")
-            _save(fig, dest, name, saved)
-    classified = [(rep, i) for rep, i in zip(reps, chosen)
-                  if "s_perp" in rep.observables and index["class"][i] != "not_applicable"]
+            tasks.append((_panel_figure, (dest, name, plot, [paths[k] for k in having],
+                                          [titles[k] for k in having])))
+    classified = [k for k in range(len(chosen))
+                  if "s_perp" in held[k] and index["class"][chosen[k]] != "not_applicable"]
     if classified:
-        fig, axes = _panels(len(classified))
-        for ax, (rep, i) in zip(axes, classified):
-            plots.order_parameters(ax, rep)
-            ax.set_title(_title(index, i), fontsize="small")
-        _save(fig, dest, "order-parameters", saved)
+        tasks.append((_panel_figure, (dest, "order-parameters", plots.order_parameters,
+                                      [paths[k] for k in classified], [titles[k] for k in classified])))
         if rows and any(r.get("kinetic") is not None for r in rows):
-            fig, ax = plt.subplots(figsize=(6.5, 5))
-            plots.phase_diagram(ax, rows, x=_x_axis(rows), y=_y_axis(rows))
-            _save(fig, dest, "phase-diagram", saved)
+            tasks.append((_phase_figure, (dest, rows)))
     if movies:
-        _movies(index, dest, saved)
+        tasks += _movie_tasks(index, dest)
+    saved = _render(tasks, jobs)
     page = dest / "index.html"
     page.write_text(_html(index, rows, saved))
     return page
