@@ -18,3 +18,4 @@ mod rough;
 mod rough_cooling;
 mod single_collision;
 mod stress;
+mod viscoelastic;
