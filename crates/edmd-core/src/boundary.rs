@@ -14,6 +14,9 @@ pub trait Boundary: Copy + Clone + Debug + Default + Send + Sync + 'static {
     /// True for scenes with uniform gravity along −(last axis) (`SimParams::gravity`); only these
     /// solve quadratics for crossings and wall contacts.
     const GRAVITY: bool = false;
+    /// True for the sheared periodic scene ([`LeesEdwards`]): the images across the y faces slide
+    /// along x (`SimParams::shear_rate`).
+    const SHEARED: bool = false;
 
     /// True if axis `a` has walls.
     #[inline(always)]
@@ -64,6 +67,20 @@ pub type Column = GravityAxes<0b110>;
 
 /// Periodic on every axis.
 pub type Periodic = Axes<0>;
+
+/// Lees–Edwards ("sliding brick") boundaries: periodic on every axis, with the images across the
+/// faces normal to y displaced along x by Δ(t) = a L_y t (mod L_x) and moving with ±a L_y, `a` the
+/// shear rate ([`crate::SimParams::shear_rate`]): the uniform shear flow u_x = a (y − L_y/2). A grain
+/// leaving through the upper y face re-enters through the lower one at x − Δ with v_x − a L_y (and
+/// the reverse), so that its image is where it left (PHYSICS.md §7).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct LeesEdwards;
+
+impl Boundary for LeesEdwards {
+    const WALL_MASK: u8 = 0;
+    const NAME: &'static str = "lees-edwards";
+    const SHEARED: bool = true;
+}
 /// Hard walls on every axis (in 2D the z bit is ignored).
 pub type Walls = Axes<0b111>;
 /// Periodic in x, walls on the other axes (a channel).

@@ -48,7 +48,9 @@ pub mod theory;
 pub type Vector<const D: usize> = nalgebra::SVector<f64, D>;
 
 pub use alloc::LineAligned;
-pub use boundary::{Axes, Boundary, Channel, Column, Container, GravityAxes, Periodic, Walls};
+pub use boundary::{
+    Axes, Boundary, Channel, Column, Container, GravityAxes, LeesEdwards, Periodic, Walls,
+};
 pub use calendar::{Calendar, Entry, HasEntry, HeapCalendar, PaulCalendar, Standalone};
 pub use cells::CellGrid;
 pub use collide::{

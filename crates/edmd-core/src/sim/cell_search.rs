@@ -32,6 +32,9 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             }
             return best;
         }
+        if B::SHEARED {
+            return self.search_cells_sheared(i, only, best);
+        }
         // Per axis: the neighbour rows to visit, as linear-index contribution and image shift.
         let mut lin = [[0usize; 3]; D];
         let mut sh = [[0.0f64; 3]; D];
@@ -204,21 +207,34 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         let old = self.grid.index(&self.meta[i].cell);
         let n = self.grid.n[axis] as u32;
         let c = &mut self.meta[i].cell[axis];
+        let mut wrapped = false;
         if up {
             *c += 1;
             if *c == n {
                 *c = 0;
                 self.particles[i].r0[axis] -= self.box_len[axis];
+                wrapped = true;
             }
         } else if *c == 0 {
             *c = n - 1;
             self.particles[i].r0[axis] += self.box_len[axis];
+            wrapped = true;
         } else {
             *c -= 1;
+        }
+        let sheared = B::SHEARED && axis == 1 && wrapped;
+        if sheared {
+            self.cross_sheared_face(i, up);
         }
         let new = self.grid.index(&self.meta[i].cell);
         self.grid.remove(&mut self.particles, i as u32, old);
         self.grid.insert(&mut self.particles, i as u32, new);
+        if sheared {
+            // A new trajectory: a full search, as after a collision.
+            let (t, partner) = self.search_cells(i, None, (f64::INFINITY, NONE));
+            self.store::<super::Cells>(i, t, partner);
+            return;
+        }
         // Only the cells that just became adjacent need a search, unless the candidate went stale.
         // Every pair a search has seen keeps a bound: since the last trajectory change of either
         // particle, one of the two searched the other (a velocity change is always followed by a

@@ -18,9 +18,13 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         // The image of j nearest to i, and the separation written exactly as `search` writes it, so
         // that the approach test below and the prediction agree to the last bit: a pair found
         // approaching is treated as approaching, and one found receding is never predicted again.
-        let ri = self.image_near(&pos_i, &pos_j);
+        let (ri, vi_img) = if B::SHEARED {
+            self.sheared_image_near(&pos_i, &pi.vel, &pos_j)
+        } else {
+            (self.image_near(&pos_i, &pos_j), pi.vel)
+        };
         let dr = ri - (pj.r0 + pj.vel * now);
-        let dv = pi.vel - pj.vel;
+        let dv = vi_img - pj.vel;
         let b = dr.dot(&dv);
         if !approaching(
             b,
@@ -78,6 +82,9 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         self.counters.pair_collisions += 1;
         // Physical momentum transfer (the simulated one carries the deep-cooling scale).
         self.counters.virial += impulse * dist * self.inv_scale;
+        if B::SHEARED {
+            self.counters.shear_virial += impulse * dist * normal[0] * normal[1];
+        }
     }
 
     /// Specular reflection of particle `i` at a wall normal to `axis`, with the wall's restitution.

@@ -10,7 +10,9 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     /// reached without underflow. The caller predicts all events again.
     pub(super) fn rescale_if_cold(&mut self) -> bool {
         // Under gravity the acceleration would have to be rescaled too: no deep cooling there.
-        if self.params.rescale_below <= 0.0 || B::GRAVITY {
+        // Under shear the images' speed would have to be rescaled too; a sheared gas reaches a steady
+        // temperature instead of cooling without end.
+        if self.params.rescale_below <= 0.0 || B::GRAVITY || B::SHEARED {
             return false;
         }
         let sim_t = self.simulated_temperature();
@@ -39,7 +41,8 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     /// motion, so once the drift carries more than 1e-12 of the kinetic energy it is removed (a
     /// Galilean boost; events are predicted again). Walls and gravity break the symmetry: never there.
     pub(super) fn remove_drift_if_large(&mut self) -> bool {
-        if B::WALL_MASK != 0 || B::GRAVITY {
+        // Sheared scenes exchange momentum with the sliding images (the mean flow is imposed).
+        if B::WALL_MASK != 0 || B::GRAVITY || B::SHEARED {
             return false;
         }
         let (mut p, mut mass, mut twice_ke) = (Vector::<D>::zeros(), 0.0, 0.0);

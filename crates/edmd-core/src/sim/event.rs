@@ -18,6 +18,8 @@ pub enum EventKind {
     ShellExit(u32),
     /// A particle hit a wall.
     Wall(u32),
+    /// Sheared scenes: the sliding images moved by one cell and the outer rows were searched again.
+    ShearShift,
 }
 
 /// The popped event of a slot, decoded from its [`super::EventSlot`].
@@ -47,6 +49,13 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     #[inline]
     pub(super) fn step_with<S: Search>(&mut self) -> Option<EventKind> {
         let (i, t) = self.calendar.pop(&mut self.meta)?;
+        if B::SHEARED && t > self.shear.next {
+            // The sliding images move the outer rows' stencils first; the event waits its turn.
+            self.calendar.schedule(&mut self.meta, i, t);
+            self.shear_shift();
+            self.counters.events += 1;
+            return Some(EventKind::ShearShift);
+        }
         self.hint_popped::<S>();
         debug_assert!(t >= self.now, "event in the past: {t} < {}", self.now);
         self.now = t;

@@ -39,6 +39,7 @@ mod look_ahead;
 mod params;
 mod query;
 mod run;
+mod shear;
 mod upkeep;
 
 use collapse::CollapseMonitor;
@@ -175,6 +176,9 @@ pub struct Counters {
     pub crossings: u64,
     /// Σ over pair collisions of `r_ij · Δp_i` (the collision virial), in the simulation's units.
     pub virial: f64,
+    /// Sheared scenes: Σ over pair collisions of `(r_ij)_x (Δp_i)_y`, the collisional part of the
+    /// shear stress times the volume and the time (0 elsewhere).
+    pub shear_virial: f64,
 }
 
 /// An event-driven simulation of hard disks (`D = 2`) or spheres (`D = 3`) in a box with boundary
@@ -213,7 +217,26 @@ pub struct Simulation<const D: usize, B: Boundary, R: CollisionRule, C: Calendar
     last_maintenance: (u64, f64),
     /// The large-system look-ahead (`sim/hints.rs`): on when the state is far larger than a cache.
     look_ahead: hints::LookAhead,
+    /// Sheared scenes: the sliding images ([`crate::LeesEdwards`]).
+    pub(crate) shear: Shear,
     _boundary: PhantomData<B>,
+}
+
+/// The state of the sliding images of a sheared scene: Δ(now) = `offset` + `speed` · now, taken
+/// modulo L_x only together with `cell` (at each clock rebase), so that the two always agree.
+/// Across a y face a particle's cell search covers four cells of the sliding row, enough until Δ
+/// next crosses a multiple of the cell side: then (`next`, local time) every particle of the two
+/// outer rows is searched again, with the row's stencil moved by one cell (`cell`).
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct Shear {
+    /// Δ at local time 0.
+    pub offset: f64,
+    /// The images' speed a L_y.
+    pub speed: f64,
+    /// ⌊Δ / cell side⌋ between shifts (counted by the shifts, not computed from Δ).
+    pub cell: i64,
+    /// Local time of the next shift (∞ without shear).
+    pub next: f64,
 }
 
 impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B, R, C> {
@@ -247,6 +270,13 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                 "gravity",
                 params.gravity,
                 "this scene has no gravity: use a GravityAxes scene",
+            ));
+        }
+        if params.shear_rate != 0.0 && !B::SHEARED {
+            return Err(EdmdError::invalid(
+                "shear_rate",
+                params.shear_rate,
+                "this scene is not sheared: use the LeesEdwards scene",
             ));
         }
         if params.floor_temperature > 0.0 && !B::is_wall(D - 1) {
@@ -304,7 +334,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             max_d = max_d.max(2.0 * p.radius);
         }
         let skin = params.neighbour_skin * max_d;
-        let list_grid = (skin > 0.0 && !B::GRAVITY)
+        let list_grid = (skin > 0.0 && !B::GRAVITY && !B::SHEARED)
             .then(|| CellGrid::new(&box_len, max_d + skin, max_d * params.cell_factor).ok())
             .flatten();
         let (grid, nl) = match list_grid {
@@ -359,8 +389,22 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             next_maintenance: 0,
             last_maintenance: (0, 0.0),
             look_ahead: hints::LookAhead::default(),
+            shear: Shear::default(),
             _boundary: PhantomData,
         };
+        if B::SHEARED {
+            let speed = sim.params.shear_rate * box_len[1];
+            sim.shear = Shear {
+                offset: 0.0,
+                speed,
+                cell: 0,
+                next: if speed > 0.0 {
+                    sim.grid.side[0] / speed
+                } else {
+                    f64::INFINITY
+                },
+            };
+        }
         for i in 0..n {
             let c = sim.grid.coords_of(&sim.particles[i].r0);
             sim.meta[i].cell = c;
@@ -401,6 +445,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             next_maintenance: self.next_maintenance,
             last_maintenance: self.last_maintenance,
             look_ahead: self.look_ahead,
+            shear: self.shear,
             _boundary: PhantomData,
         }
     }

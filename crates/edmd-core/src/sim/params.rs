@@ -35,6 +35,9 @@ pub struct SimParams {
     /// (normal speed Rayleigh-distributed, tangential components Gaussian; spins kept). Needs walls on
     /// the last axis; it replaces that wall's restitution.
     pub floor_temperature: f64,
+    /// The shear rate `a` of a [`crate::LeesEdwards`] scene (flow u_x = a (y − L_y/2)), ≥ 0; must
+    /// be 0 elsewhere (default 0).
+    pub shear_rate: f64,
 }
 
 impl Default for SimParams {
@@ -49,6 +52,7 @@ impl Default for SimParams {
             wall_threshold: 0.0,
             neighbour_skin: 0.0,
             floor_temperature: 0.0,
+            shear_rate: 0.0,
         }
     }
 }
@@ -56,7 +60,13 @@ impl Default for SimParams {
 impl SimParams {
     /// Checks every field against its domain; the error names the field and the value.
     pub fn validate(&self) -> Result<(), EdmdError> {
-        let checks: [(&'static str, f64, bool, &str); 8] = [
+        let checks: [(&'static str, f64, bool, &str); 9] = [
+            (
+                "shear_rate",
+                self.shear_rate,
+                self.shear_rate >= 0.0 && self.shear_rate.is_finite(),
+                "must be ≥ 0 and finite (the flow is u_x = a (y − L_y/2); mirror y for the other sense)",
+            ),
             (
                 "floor_temperature",
                 self.floor_temperature,

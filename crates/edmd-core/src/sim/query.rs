@@ -18,7 +18,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     /// compiler: the list-mode loop is not compiled into those scenes at all.
     #[inline(always)]
     pub(super) fn uses_lists(&self) -> bool {
-        !B::GRAVITY && self.nl.is_some()
+        !B::GRAVITY && !B::SHEARED && self.nl.is_some()
     }
 
     /// Number of particles.

@@ -147,6 +147,14 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             m.ev.coll_t -= now;
             m.ev.aux_t -= now;
         }
+        if B::SHEARED {
+            // Whole box lengths leave Δ and the stencil's cell together, so the two stay consistent.
+            let s = &mut self.shear;
+            let wraps = s.cell.div_euclid(self.grid.n[0] as i64);
+            s.offset += s.speed * now - wraps as f64 * self.box_len[0];
+            s.cell -= wraps * self.grid.n[0] as i64;
+            s.next -= now;
+        }
         self.epoch += now;
         self.now = 0.0;
     }

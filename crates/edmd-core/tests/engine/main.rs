@@ -9,6 +9,7 @@ mod equilibrium;
 mod fuzz;
 mod gravity;
 mod haff;
+mod lees_edwards;
 mod mixture;
 mod oracle;
 mod overlaps;

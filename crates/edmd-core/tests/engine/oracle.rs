@@ -22,23 +22,30 @@ fn brute_force_next<const D: usize>(
                 dr[a] -= box_len[a] * (dr[a] / box_len[a]).round();
             }
             let dv = vel[i] - vel[j];
-            let b = dr.dot(&dv);
-            if b >= 0.0 {
-                continue;
-            }
-            let v2 = dv.norm_squared();
-            let c = dr.norm_squared() - 4.0 * radius * radius;
-            let disc = b * b - v2 * c;
-            if disc < 0.0 {
-                continue;
-            }
-            let t = ((-b - disc.sqrt()) / v2).max(0.0);
-            if t < best.2 {
-                best = (i, j, t);
+            if let Some(t) = contact_time(&dr, &dv, 2.0 * radius) {
+                if t < best.2 {
+                    best = (i, j, t);
+                }
             }
         }
     }
     best
+}
+
+/// When a pair at separation `dr` with relative velocity `dv` comes to contact distance `sigma`
+/// (the plain form of the root; 0 if already touching and approaching), or None if it never does.
+pub(crate) fn contact_time<const D: usize>(
+    dr: &Vector<D>,
+    dv: &Vector<D>,
+    sigma: f64,
+) -> Option<f64> {
+    let b = dr.dot(dv);
+    if b >= 0.0 {
+        return None;
+    }
+    let v2 = dv.norm_squared();
+    let disc = b * b - v2 * (dr.norm_squared() - sigma * sigma);
+    (disc >= 0.0).then(|| ((-b - disc.sqrt()) / v2).max(0.0))
 }
 
 fn next_collision<const D: usize, B: Boundary, C: Calendar>(

@@ -1,0 +1,233 @@
+//! Lees–Edwards boundaries ([`crate::LeesEdwards`]): the sliding images across the y faces.
+//!
+//! The image of particle k above the box (across the upper y face) sits at x_k + Δ(t), y_k + L_y
+//! and moves with v_k + a L_y e_x; the one below at x_k − Δ, y_k − L_y with v_k − a L_y e_x. Seen from
+//! cell column c of the upper row, the images that can touch a particle there while Δ stays in
+//! [m w, (m + 1) w] (w the cell side) come from the lower row's columns c − m − 2 … c − m + 1; from
+//! the lower row, the upper row's columns c + m − 1 … c + m + 2. A cell search across the face
+//! visits those four columns, and when Δ reaches the next multiple of w (a *shift*) every particle
+//! of the two outer rows is searched again with m + 1, so no candidate is ever missed.
+
+use super::{Cells, Simulation};
+use crate::calendar::Calendar;
+use crate::cells::NONE;
+use crate::{Boundary, CollisionRule, Particle, Vector};
+
+impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B, R, C> {
+    /// Δ at the current time (not reduced modulo L_x; see [`super::Shear`]).
+    #[inline(always)]
+    pub(super) fn shear_delta(&self) -> f64 {
+        self.shear.offset + self.shear.speed * self.now
+    }
+
+    /// The displacement along x of the images across the y faces at the current time, in [0, L_x),
+    /// and the shear rate: what a reader of the positions needs to draw the sliding images.
+    pub fn shear_offset(&self) -> f64 {
+        if B::SHEARED {
+            self.shear_delta().rem_euclid(self.box_len[0])
+        } else {
+            0.0
+        }
+    }
+
+    /// The shift vector and the image velocity change of partner images across y face `wrap` (+1:
+    /// the image above, −1 below, 0 none) and `kx` box lengths along x: the image sits at the
+    /// partner's position plus the shift, and moves with its velocity plus `wrap · a L_y` along x.
+    #[inline(always)]
+    fn image_shift(&self, wrap: i64, kx: i64, delta: f64) -> Vector<D> {
+        let mut s = Vector::<D>::zeros();
+        s[0] = kx as f64 * self.box_len[0] + wrap as f64 * delta;
+        s[1] = wrap as f64 * self.box_len[1];
+        s
+    }
+
+    /// The image of particle i (position `x`, velocity `v`) nearest to particle j at `y`, and that
+    /// image's velocity: the shift and velocity change written as [`Self::search_cells_sheared`]
+    /// writes them, so that a pair it found approaching is approaching here too.
+    #[inline(always)]
+    pub(super) fn sheared_image_near(
+        &self,
+        x: &Vector<D>,
+        v: &Vector<D>,
+        y: &Vector<D>,
+    ) -> (Vector<D>, Vector<D>) {
+        let dy = x[1] - y[1];
+        // i's image across a face is j's seen from i the other way: i above j's row means j's
+        // image above i, so i is reduced by the shift of j's upper image (wrap +1).
+        let wrap = if dy > self.half_box[1] {
+            1
+        } else if dy < -self.half_box[1] {
+            -1
+        } else {
+            0
+        };
+        let delta = self.shear_delta();
+        let dx = x[0] - wrap as f64 * delta - y[0];
+        let kx = (dx / self.box_len[0]).round() as i64;
+        let mut ri = x - self.image_shift(wrap, kx, delta);
+        for a in 2..D {
+            let d = x[a] - y[a];
+            if d > self.half_box[a] {
+                ri[a] -= self.box_len[a];
+            } else if d < -self.half_box[a] {
+                ri[a] += self.box_len[a];
+            }
+        }
+        let mut vi = *v;
+        vi[0] -= wrap as f64 * self.shear.speed;
+        (ri, vi)
+    }
+
+    /// [`Self::search_cells`] for a cell at the box's edge in a sheared scene: the rows across a y
+    /// face are visited through the four sliding columns (module docs), the others as in a periodic
+    /// box. `only` restricts the search to the cells newly adjacent after a crossing.
+    pub(super) fn search_cells_sheared(
+        &self,
+        i: usize,
+        only: Option<(usize, i32)>,
+        mut best: (f64, u32),
+    ) -> (f64, u32) {
+        let pi = self.particles[i];
+        let pos_i = pi.r0 + pi.vel * self.now;
+        let ci = self.meta[i].cell;
+        let n = self.grid.n;
+        let (nx, ny) = (n[0] as i64, n[1] as i64);
+        let m = self.shear.cell;
+        let delta = self.shear_delta();
+        let along = |a: usize, off: i64| !matches!(only, Some((axis, dir)) if axis == a && off != dir as i64);
+        for oy in -1..=1i64 {
+            if !along(1, oy) {
+                continue;
+            }
+            let mut y = ci[1] as i64 + oy;
+            let wrap = if y < 0 {
+                y += ny;
+                -1
+            } else if y >= ny {
+                y -= ny;
+                1
+            } else {
+                0
+            };
+            // The columns to visit, and which of them a crossing along x newly reaches.
+            let (first, count) = match wrap {
+                0 => (ci[0] as i64 - 1, 3),
+                1 => (ci[0] as i64 - m - 2, 4),
+                _ => (ci[0] as i64 + m - 1, 4),
+            };
+            let mut pi_img = pi;
+            pi_img.vel[0] -= wrap as f64 * self.shear.speed;
+            for k in 0..count {
+                if let Some((0, dir)) = only {
+                    if (dir > 0 && k != count - 1) || (dir < 0 && k != 0) {
+                        continue;
+                    }
+                }
+                let cx = first + k;
+                let wx = cx.rem_euclid(nx);
+                let kx = (cx - wx) / nx;
+                let shift = self.image_shift(wrap, kx, delta);
+                let base = wx as usize * self.grid.stride[0] + y as usize * self.grid.stride[1];
+                if D == 2 {
+                    best = self.scan_cell(base, i, &pi_img, &(pos_i - shift), best);
+                    continue;
+                }
+                for oz in -1..=1i64 {
+                    if !along(2, oz) {
+                        continue;
+                    }
+                    let nz = n[2] as i64;
+                    let z = ci[2] as i64 + oz;
+                    let wz = z.rem_euclid(nz);
+                    let mut s = shift;
+                    s[2] = ((z - wz) / nz) as f64 * self.box_len[2];
+                    let idx = base + wz as usize * self.grid.stride[2];
+                    best = self.scan_cell(idx, i, &pi_img, &(pos_i - s), best);
+                }
+            }
+        }
+        best
+    }
+
+    /// The shift: Δ reached the next multiple of the cell side. The clock moves to it and every
+    /// particle of the two outer rows is searched again with the stencil moved by one column.
+    #[cold]
+    pub(super) fn shear_shift(&mut self) {
+        self.now = self.shear.next;
+        self.shear.cell += 1;
+        self.shear.next += self.grid.side[0] / self.shear.speed;
+        let (n, stride) = (self.grid.n, self.grid.stride);
+        let rows = if n[1] == 1 {
+            vec![0]
+        } else {
+            vec![0, n[1] - 1]
+        };
+        let layers = if D == 3 { n[D - 1] } else { 1 };
+        let mut outer = Vec::new();
+        for row in rows {
+            for x in 0..n[0] {
+                for z in 0..layers {
+                    let idx = x * stride[0]
+                        + row * stride[1]
+                        + if D == 3 { z * stride[D - 1] } else { 0 };
+                    let mut k = self.grid.first(idx);
+                    while k != NONE {
+                        outer.push(k as usize);
+                        k = self.particles[k as usize].next_in_cell;
+                    }
+                }
+            }
+        }
+        for i in outer {
+            self.predict::<Cells>(i);
+        }
+    }
+
+    /// A crossing of the y face by particle `i` (already moved to the row on the other side, its
+    /// y wrapped): x moves by ∓Δ and v_x by ∓a L_y (`up`: through the upper face), so that the
+    /// image of the particle is where it left; its x cell follows, and it counts as a new
+    /// trajectory (every candidate naming it is stale).
+    pub(super) fn cross_sheared_face(&mut self, i: usize, up: bool) {
+        let s = if up { 1.0 } else { -1.0 };
+        let now = self.now;
+        let delta = self.shear_delta();
+        let speed = self.shear.speed;
+        let lx = self.box_len[0];
+        let p: &mut Particle<D> = &mut self.particles[i];
+        let x = (p.r0[0] + p.vel[0] * now - s * delta).rem_euclid(lx);
+        p.vel[0] -= s * speed;
+        p.r0[0] = x - p.vel[0] * now;
+        p.counter = p.counter.wrapping_add(1);
+        let mut at = p.r0 + p.vel * now;
+        at[0] = x;
+        self.meta[i].cell[0] = self.grid.coords_of(&at)[0];
+    }
+}
+
+impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B, R, C> {
+    /// Peculiar velocities V = v − a (y − L_y/2) e_x (the velocities relative to the imposed flow;
+    /// the velocities themselves where the scene is not sheared), in the original order. The y of a
+    /// particle is taken where its trajectory is, before any wrapping into the box, so that V is
+    /// continuous through the y faces.
+    pub fn peculiar_velocities(&self) -> Vec<Vector<D>> {
+        let (a, half) = (self.params.shear_rate, self.half_box[1]);
+        self.in_original_order(|s| {
+            let p = &self.particles[s];
+            let mut v = self.velocity_now(p) * self.inv_scale;
+            if B::SHEARED {
+                let y = p.r0[1] + p.vel[1] * self.now;
+                v[0] -= a * (y - half);
+            }
+            v
+        })
+    }
+
+    /// The shear rate a (0 where the scene is not sheared).
+    pub fn shear_rate(&self) -> f64 {
+        if B::SHEARED {
+            self.params.shear_rate
+        } else {
+            0.0
+        }
+    }
+}
