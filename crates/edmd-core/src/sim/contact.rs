@@ -57,6 +57,9 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             pi.vel + normal * (impulse / mi),
             pj.vel - normal * (impulse / mj),
         );
+        // Sheared scenes: the kinetic energy the contact removes, in the frame of i's image (where
+        // the pair's momentum is conserved; the loss is the same in every such frame).
+        let mut spin_loss = 0.0;
         if R::ROUGH {
             let (beta, q) = self.rule.roughness();
             let (wi, wj) = (Vector3::from(R::spin(si)), Vector3::from(R::spin(sj)));
@@ -65,6 +68,14 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             for a in 0..D {
                 vi[a] += pt[a] / mi;
                 vj[a] -= pt[a] / mj;
+            }
+            if B::SHEARED {
+                let (ii, ij) = (
+                    q * mi * pi.radius * pi.radius,
+                    q * mj * pj.radius * pj.radius,
+                );
+                spin_loss = 0.5 * ii * (wi.norm_squared() - (wi + dwi).norm_squared())
+                    + 0.5 * ij * (wj.norm_squared() - (wj + dwj).norm_squared());
             }
             R::set_spin(si, (wi + dwi).into());
             R::set_spin(sj, (wj + dwj).into());
@@ -84,6 +95,10 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         self.counters.virial += impulse * dist * self.inv_scale;
         if B::SHEARED {
             self.counters.shear_virial += impulse * dist * normal[0] * normal[1];
+            let vi_after = vi + (vi_img - pi.vel);
+            self.counters.dissipated += spin_loss
+                + 0.5 * mi * (vi_img.norm_squared() - vi_after.norm_squared())
+                + 0.5 * mj * (pj.vel.norm_squared() - vj.norm_squared());
         }
     }
 

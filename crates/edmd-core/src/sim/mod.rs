@@ -179,6 +179,9 @@ pub struct Counters {
     /// Sheared scenes: Σ over pair collisions of `(r_ij)_x (Δp_i)_y`, the collisional part of the
     /// shear stress times the volume and the time (0 elsewhere).
     pub shear_virial: f64,
+    /// Sheared scenes: the kinetic energy (translational and rotational) the collisions removed
+    /// (0 elsewhere).
+    pub dissipated: f64,
 }
 
 /// An event-driven simulation of hard disks (`D = 2`) or spheres (`D = 3`) in a box with boundary
