@@ -15,7 +15,7 @@ use std::time::Instant;
 use clap::Parser;
 use serde::Serialize;
 
-use edmd::{ConstantRestitution, InitParams, LineAligned, Periodic, Stop};
+use edmd::{Boundary, ConstantRestitution, InitParams, LeesEdwards, LineAligned, Periodic, Stop};
 
 struct Counting;
 static CURRENT: AtomicUsize = AtomicUsize::new(0);
@@ -46,6 +46,8 @@ struct Case {
     n: usize,
     phi: f64,
     eps: f64,
+    /// Lees–Edwards shear rate (0: the periodic box).
+    shear_rate: f64,
 }
 
 struct Outcome {
@@ -56,7 +58,7 @@ struct Outcome {
     bytes_per_particle: f64,
 }
 
-fn measure<const D: usize>(
+fn measure<const D: usize, B: Boundary>(
     case: &Case,
     repeats: usize,
     per_particle: f64,
@@ -67,8 +69,14 @@ fn measure<const D: usize>(
     let mut p = InitParams::<D>::with_packing(case.n, case.phi).map_err(|e| e.to_string())?;
     p.seed = 1;
     p.melt_tau = Some(melt_tau);
+    if B::SHEARED {
+        p.sim = Some(edmd::SimParams {
+            shear_rate: case.shear_rate,
+            ..p.default_sim_params()
+        });
+    }
     let rule = ConstantRestitution::new(case.eps).map_err(|e| e.to_string())?;
-    let mut sim = p.build::<Periodic, _>(rule).map_err(|e| e.to_string())?;
+    let mut sim = p.build::<B, _>(rule).map_err(|e| e.to_string())?;
     let mut rates = Vec::new();
     let (mut collisions, mut total) = (0, 0.0);
     for _ in 0..repeats {
@@ -80,7 +88,8 @@ fn measure<const D: usize>(
         rates.push((sim.counters().pair_collisions - c0) as f64 / secs);
         collisions += sim.counters().pair_collisions - c0;
         total += secs;
-        if case.eps < 1.0 {
+        // (Not under shear: scaling the velocities would scale the imposed flow too.)
+        if case.eps < 1.0 && !B::SHEARED {
             // Keep an inelastic gas at T ≈ 1 so every repeat sees the same event rate.
             let t = sim.temperature();
             sim.scale_velocities(t.recip().sqrt());
@@ -108,10 +117,15 @@ fn run_case(
 ) -> Result<Outcome, String> {
     // About 5·10^6 collisions per repeat (at least 2 and at most 200 per particle).
     let per_particle = per_particle.unwrap_or_else(|| (5e6 / case.n as f64).clamp(2.0, 200.0));
-    match case.d {
-        2 => measure::<2>(case, repeats, per_particle, melt_tau),
-        3 => measure::<3>(case, repeats, per_particle, melt_tau),
-        d => Err(format!("invalid --d = {d}: the dimension must be 2 or 3")),
+    if !(case.shear_rate >= 0.0 && case.shear_rate.is_finite()) {
+        return Err(format!("invalid --shear-rate = {}: must be ≥ 0 and finite", case.shear_rate));
+    }
+    match (case.d, case.shear_rate > 0.0) {
+        (2, false) => measure::<2, Periodic>(case, repeats, per_particle, melt_tau),
+        (3, false) => measure::<3, Periodic>(case, repeats, per_particle, melt_tau),
+        (2, true) => measure::<2, LeesEdwards>(case, repeats, per_particle, melt_tau),
+        (3, true) => measure::<3, LeesEdwards>(case, repeats, per_particle, melt_tau),
+        (d, _) => Err(format!("invalid --d = {d}: the dimension must be 2 or 3")),
     }
 }
 
@@ -131,6 +145,10 @@ struct Args {
     /// Restitution (an inelastic gas is rescaled to T = 1 between repeats).
     #[arg(long, default_value_t = 1.0)]
     eps: f64,
+    /// Lees–Edwards shear rate a (0: the periodic box); the elastic gas then heats up slowly, so
+    /// the rate per collision, not per unit time, is what compares.
+    #[arg(long, default_value_t = 0.0)]
+    shear_rate: f64,
     /// Timed runs per case; the median is reported.
     #[arg(long, default_value_t = 3)]
     repeats: usize,
@@ -158,6 +176,7 @@ struct Report {
     n: usize,
     phi: f64,
     eps: f64,
+    shear_rate: f64,
     repeats: usize,
     collisions: u64,
     seconds: f64,
@@ -205,6 +224,7 @@ fn real_main(args: Args) -> Result<(), String> {
                         n,
                         phi,
                         eps: 1.0,
+                        shear_rate: args.shear_rate,
                     };
                     let o = run_case(&case, repeats, per, melt_tau)?;
                     println!(
@@ -224,6 +244,7 @@ fn real_main(args: Args) -> Result<(), String> {
         n: args.n,
         phi: args.phi,
         eps: args.eps,
+        shear_rate: args.shear_rate,
     };
     let o = run_case(&case, repeats, per, melt_tau)?;
     if args.json {
@@ -233,6 +254,7 @@ fn real_main(args: Args) -> Result<(), String> {
             n: case.n,
             phi: case.phi,
             eps: case.eps,
+            shear_rate: case.shear_rate,
             repeats,
             collisions: o.collisions,
             seconds: round(o.secs, 4),
@@ -247,11 +269,12 @@ fn real_main(args: Args) -> Result<(), String> {
         return Ok(());
     }
     println!(
-        "D={} N={} phi={} eps={} repeats={} spread={:.1}%",
+        "D={} N={} phi={} eps={} shear_rate={} repeats={} spread={:.1}%",
         case.d,
         case.n,
         case.phi,
         case.eps,
+        case.shear_rate,
         repeats,
         100.0 * o.spread
     );
