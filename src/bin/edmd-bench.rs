@@ -118,7 +118,10 @@ fn run_case(
     // About 5·10^6 collisions per repeat (at least 2 and at most 200 per particle).
     let per_particle = per_particle.unwrap_or_else(|| (5e6 / case.n as f64).clamp(2.0, 200.0));
     if !(case.shear_rate >= 0.0 && case.shear_rate.is_finite()) {
-        return Err(format!("invalid --shear-rate = {}: must be ≥ 0 and finite", case.shear_rate));
+        return Err(format!(
+            "invalid --shear-rate = {}: must be ≥ 0 and finite",
+            case.shear_rate
+        ));
     }
     match (case.d, case.shear_rate > 0.0) {
         (2, false) => measure::<2, Periodic>(case, repeats, per_particle, melt_tau),
