@@ -1,6 +1,7 @@
 //! Observables: temperature, energy, momentum and the collision virial.
 //!
-//! Temperature is `T = m⟨v²⟩/d` (the variance of one velocity component for unit mass). The pressure
+//! Temperature is `T = m⟨v²⟩/d` (the variance of one velocity component for unit mass); in a sheared
+//! scene every observable here is taken with the peculiar velocities V = v − a (y − L_y/2) e_x. The pressure
 //! comes from the collision virial: `p V = N T + (1/(d Δt)) Σ r_ij·Δp_i`, so the compressibility
 //! factor is `Z = 1 + Σ r_ij·Δp_i / (d N T Δt)`; for elastic hard disks `Z = 1 + 2φχ`
 //! (spheres: `1 + 4φχ`).
@@ -39,7 +40,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         self.particles
             .iter()
             .zip(&self.meta)
-            .map(|(p, m)| 0.5 * m.mass * self.velocity_now(p).norm_squared())
+            .map(|(p, m)| 0.5 * m.mass * self.thermal_velocity_now(p).norm_squared())
             .sum()
     }
 
@@ -74,7 +75,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         let mut momentum = Vector::<D>::zeros();
         let (mut scale, mut ke, mut v2, mut v4) = (0.0, 0.0, 0.0, 0.0);
         for (p, m) in self.particles.iter().zip(self.meta.iter().map(|m| m.mass)) {
-            let v = self.velocity_now(p);
+            let v = self.thermal_velocity_now(p);
             let s2 = v.norm_squared();
             momentum += v * m;
             scale += m * s2.sqrt();

@@ -165,6 +165,9 @@ pub const INERTIA: Domain = Domain::new(
 );
 /// Gravity: g ≥ 0 (the unit is σ = m = T0 = 1); 10⁶ bounds it far above any useful column.
 pub const GRAVITY: Domain = Domain::closed(0.0, 1e6, "gravity must lie in [0, 1e6]");
+/// Shear rates a of the Lees–Edwards box (units √(T0/m)/σ); 10³ bounds them far above any
+/// rate a gas at T0 meets (a* = a/ν0 of a steady flow is below 1).
+pub const SHEAR_RATE: Domain = Domain::closed(0.0, 1e3, "shear rate must lie in [0, 1000]");
 /// Wall restitution.
 pub const WALL_EPS: Domain = Domain::closed(0.0, 1.0, "wall restitution must lie in [0, 1]");
 /// Temperatures of a thermal floor (in units of T0).
@@ -282,6 +285,7 @@ schema_fns! {
     inertia_optional => INERTIA.optional,
     fraction_one => FRACTION.one,
     gravity_axis => GRAVITY.axis,
+    shear_rate_axis => SHEAR_RATE.axis,
     wall_eps_axis => WALL_EPS.axis,
     floor_temperature_axis => FLOOR_TEMPERATURE.optional_axis,
     diameter_one => DIAMETER.one,

@@ -180,6 +180,8 @@ record_fields! {
     species: String,
     /// Gravity (0: none).
     gravity: f64,
+    /// Shear rate of a Lees–Edwards box (0: none).
+    shear_rate: f64,
     /// Wall restitution (1: elastic).
     wall_eps: f64,
     /// Temperature of a thermal floor (0: none).
@@ -242,6 +244,7 @@ impl Record {
                 .map(|m| crate::spec::species_label(m, r.dim))
                 .unwrap_or_default(),
             gravity: r.gravity,
+            shear_rate: r.shear_rate,
             wall_eps: r.wall_eps,
             floor_temperature: r.floor_temperature,
             aspect: r
@@ -309,6 +312,7 @@ mod tests {
             beta: -1.0,
             species: String::new(),
             gravity: 0.0,
+            shear_rate: 0.0,
             wall_eps: 1.0,
             floor_temperature: 0.0,
             aspect: String::new(),

@@ -112,12 +112,14 @@ pub fn phase_table(spec: &Spec, records: &[Record]) -> Vec<PointRow> {
                 && first.gravity == 0.0
                 && first.floor_temperature == 0.0
                 && first.wall_eps == 1.0
+                && first.boundary != BoundaryKind::LeesEdwards.name()
             {
                 -haff_rate(first.dim, first.eps) * tau_end / ln10
             } else {
                 f64::NAN
             };
-            let periodic = first.boundary == BoundaryKind::Periodic.name();
+            let periodic = first.boundary == BoundaryKind::Periodic.name()
+                || first.boundary == BoundaryKind::LeesEdwards.name();
             let (lp, lq) = critical_box_sides(first.dim, first.eps, first.phi, periodic);
             // Gravity and thermal floors are not free cooling: no fractions (not_applicable).
             let classified =
@@ -199,6 +201,9 @@ fn scene_label(r: &Record) -> String {
     let mut parts = Vec::new();
     if r.gravity > 0.0 {
         parts.push(format!("g={}", r.gravity));
+    }
+    if r.boundary == BoundaryKind::LeesEdwards.name() {
+        parts.push(format!("a={}", r.shear_rate));
     }
     if r.wall_eps != 1.0 {
         parts.push(format!("wall_eps={}", r.wall_eps));

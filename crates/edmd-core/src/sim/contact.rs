@@ -94,7 +94,14 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         // Physical momentum transfer (the simulated one carries the deep-cooling scale).
         self.counters.virial += impulse * dist * self.inv_scale;
         if B::SHEARED {
-            self.counters.shear_virial += impulse * dist * normal[0] * normal[1];
+            // The whole impulse on i (normal, tangential, rotated), against the separation.
+            let dp = (vi - pi.vel) * mi;
+            self.counters.shear_virial += dr[0] * dp[1];
+            for a in 0..D {
+                for b in 0..D {
+                    self.counters.virial_tensor[a][b] += dr[a] * dp[b];
+                }
+            }
             let vi_after = vi + (vi_img - pi.vel);
             self.counters.dissipated += spin_loss
                 + 0.5 * mi * (vi_img.norm_squared() - vi_after.norm_squared())

@@ -177,6 +177,19 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         v
     }
 
+    /// A particle's thermal velocity at the current time: [`Self::velocity_now`] less the imposed
+    /// flow a (y − L_y/2) e_x in a sheared scene (the peculiar velocity, y taken where the
+    /// trajectory is), the velocity itself elsewhere. Simulation units.
+    #[inline(always)]
+    pub(crate) fn thermal_velocity_now(&self, p: &Particle<D>) -> Vector<D> {
+        let mut v = self.velocity_now(p);
+        if B::SHEARED {
+            let y = p.r0[1] + p.vel[1] * self.now;
+            v[0] -= self.params.shear_rate * (y - self.half_box[1]);
+        }
+        v
+    }
+
     /// Potential energy Σ m g h in the gravity field (0 without gravity).
     pub fn potential_energy(&self) -> f64 {
         if !B::GRAVITY {

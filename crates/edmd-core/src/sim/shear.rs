@@ -210,16 +210,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     /// particle is taken where its trajectory is, before any wrapping into the box, so that V is
     /// continuous through the y faces.
     pub fn peculiar_velocities(&self) -> Vec<Vector<D>> {
-        let (a, half) = (self.params.shear_rate, self.half_box[1]);
-        self.in_original_order(|s| {
-            let p = &self.particles[s];
-            let mut v = self.velocity_now(p) * self.inv_scale;
-            if B::SHEARED {
-                let y = p.r0[1] + p.vel[1] * self.now;
-                v[0] -= a * (y - half);
-            }
-            v
-        })
+        self.in_original_order(|s| self.thermal_velocity_now(&self.particles[s]) * self.inv_scale)
     }
 
     /// The shear rate a (0 where the scene is not sheared).

@@ -13,6 +13,8 @@ pub use mixture::{
 pub use rough::RoughCooling;
 mod rough_sonine;
 pub use rough_sonine::{RoughSonine, SonineState};
+mod shear;
+pub use shear::ShearFlow;
 
 /// Henderson (1975): χ = (1 − 7φ/16)/(1 − φ)² for hard disks (reliable for φ ≤ 0.35).
 pub fn chi_henderson(phi: f64) -> f64 {

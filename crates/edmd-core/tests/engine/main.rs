@@ -17,6 +17,7 @@ mod ratio;
 mod regress_round_off_contact;
 mod rough;
 mod rough_cooling;
+mod shear_rheology;
 mod single_collision;
 mod stress;
 mod viscoelastic;

@@ -15,6 +15,10 @@
 //! /observables/species_temperature  step [s], time [s], value [s, S]   (mixtures)
 //! /observables/density_profile  step [s], time [s], value [s, B], position [B]; theory [B] (gravity)
 //! /observables/rotational_ratio_theory  step [s], time [s], value [s]   (rough grains)
+//! /observables/pressure_tensor, pressure_tensor_kinetic  step [s], time [s], value [s, D, D]
+//! /observables/collision_frequency, dissipation_rate, box_offset  value [s]   (Lees–Edwards)
+//! /observables/velocity_profile, density_profile_y, density_profile_x  value [s, B], position [B]
+//! /particles/gas/box/offset  step [k], time [k], value [k]: the images' x offset (Lees–Edwards)
 //! /parameters                schema_version, spec (JSON), spec_hash, engine_version, git_commit,
 //!                            replica parameters, seed, status, message and final values as attributes;
 //!                            /parameters/spec holds every spec field as an attribute.
@@ -297,6 +301,7 @@ fn write_file(file: &hdf5::File, spec: &Spec, r: &Replica, out: &Outcome) -> hdf
             .write(&theory[..])?;
     }
     scene::rotational_parameters(&p, spec, r)?;
+    scene::shear_parameters(&p, spec, r)?;
     attr_f64(&p, "gravity", r.gravity)?;
     attr_f64(&p, "wall_eps", r.wall_eps)?;
     attr_f64(&p, "floor_temperature", r.floor_temperature)?;
@@ -397,6 +402,18 @@ fn write_file(file: &hdf5::File, spec: &Spec, r: &Replica, out: &Outcome) -> hdf
     if !out.snapshots.is_empty() {
         w.trajectory(&gas, "position", &out.snapshots, r.n, d, |s| &s.position)?;
         w.trajectory(&gas, "velocity", &out.snapshots, r.n, d, |s| &s.velocity)?;
+        if r.sheared() {
+            // The images above the box sit at x + offset, y + L_y (below: x − offset, y − L_y) and
+            // move with v_x ± a L_y (docs/output.md).
+            let g = bx.create_group("offset")?;
+            let step: Vec<i64> = out.snapshots.iter().map(|s| s.step).collect();
+            let time: Vec<f64> = out.snapshots.iter().map(|s| s.time).collect();
+            let value: Vec<f64> = out.snapshots.iter().map(|s| s.box_offset).collect();
+            w.series_1d(&g, "step", &step)?;
+            w.series_1d(&g, "time", &time)?;
+            w.series_1d(&g, "value", &value)?;
+            attr_f64(&g, "shear_rate", r.shear_rate)?;
+        }
         if r.rough() {
             // ω_z of disks, (N, 1); ω of spheres, (N, 3).
             let width = if d == 2 { 1 } else { 3 };
@@ -462,6 +479,7 @@ fn write_file(file: &hdf5::File, spec: &Spec, r: &Replica, out: &Outcome) -> hdf
         scene::profile_theory(&g, r, s, bins)?;
     }
     scene::rotational_observables(&w, &obs, spec, r, s)?;
+    scene::shear_observables(&w, &obs, r, s, &out.box_len)?;
     let collisions: Vec<f64> = s.step.iter().map(|&c| c as f64).collect();
     w.observable(&obs, "collisions", &s.step, &s.time, &collisions)?;
     let walls: Vec<f64> = s.wall_collisions.iter().map(|&c| c as f64).collect();

@@ -118,6 +118,7 @@ pub fn read_record(path: &Path, spec_hash: &str) -> Result<Record, SweepError> {
             },
             // Files written before these scenes: none of them.
             gravity: read_or(&p, "gravity", 0.0)?,
+            shear_rate: read_or(&p, "shear_rate", 0.0)?,
             wall_eps: read_or(&p, "wall_eps", 1.0)?,
             floor_temperature: read_or(&p, "floor_temperature", 0.0)?,
             aspect: aspect_of(&p)?,

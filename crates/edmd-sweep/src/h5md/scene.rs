@@ -57,3 +57,93 @@ pub(super) fn profile_theory(g: &Group, r: &Replica, s: &Series, bins: usize) ->
         .create("theory")?;
     attr_f64(g, "theory_temperature", th.temperature)
 }
+
+/// Parameters of a sheared replica: `shear_rate`, and where the dilute theory applies (smooth grains
+/// of one species, constant restitution below 1) its steady state (PHYSICS.md §7.1):
+/// `shear_theory_reduced_rate` a*, `shear_theory_viscosity` η*, `shear_theory_pxx`,
+/// `shear_theory_pyy` (P*_ii), `shear_theory_temperature` (the T that a sustains, ν0 with χ(φ)).
+pub(super) fn shear_parameters(p: &Group, spec: &Spec, r: &Replica) -> hdf5::Result<()> {
+    if !r.sheared() {
+        return Ok(());
+    }
+    attr_f64(p, "shear_rate", r.shear_rate)?;
+    let values = crate::replica::shear_theory(spec, r).map_or([f64::NAN; 5], |(f, t)| {
+        [
+            f.reduced_shear_rate(),
+            f.reduced_viscosity(),
+            f.pxx(),
+            f.pyy(),
+            t,
+        ]
+    });
+    for (name, v) in [
+        "shear_theory_reduced_rate",
+        "shear_theory_viscosity",
+        "shear_theory_pxx",
+        "shear_theory_pyy",
+        "shear_theory_temperature",
+    ]
+    .into_iter()
+    .zip(values)
+    {
+        attr_f64(p, name, v)?;
+    }
+    Ok(())
+}
+
+/// The observables of a sheared replica (`replica::ShearSeries`); tensors as [s, D, D], profiles
+/// as [s, B] with the bin centres in `position`.
+pub(super) fn shear_observables(
+    w: &Writer,
+    obs: &Group,
+    r: &Replica,
+    s: &Series,
+    sides: &[f64],
+) -> hdf5::Result<()> {
+    let sh = &s.shear;
+    if !r.sheared() || sh.box_offset.len() != s.step.len() {
+        return Ok(());
+    }
+    let d = r.dim;
+    for (name, rows) in [
+        ("pressure_tensor", &sh.pressure_tensor),
+        ("pressure_tensor_kinetic", &sh.pressure_tensor_kinetic),
+    ] {
+        let g = obs.create_group(name)?;
+        w.series_1d(&g, "step", &s.step)?;
+        w.series_1d(&g, "time", &s.time)?;
+        let flat: Vec<f64> = rows.iter().flatten().copied().collect();
+        let arr = ndarray::Array3::from_shape_vec((rows.len(), d, d), flat).expect("D x D rows");
+        g.new_dataset_builder().with_data(&arr).create("value")?;
+    }
+    w.observable(
+        obs,
+        "collision_frequency",
+        &s.step,
+        &s.time,
+        &sh.collision_frequency,
+    )?;
+    w.observable(
+        obs,
+        "dissipation_rate",
+        &s.step,
+        &s.time,
+        &sh.dissipation_rate,
+    )?;
+    w.observable(obs, "box_offset", &s.step, &s.time, &sh.box_offset)?;
+    for (name, rows, axis) in [
+        ("velocity_profile", &sh.velocity_profile, 1),
+        ("density_profile_y", &sh.density_profile_y, 1),
+        ("density_profile_x", &sh.density_profile_x, 0),
+    ] {
+        let g = w.observable_2d(obs, name, &s.step, &s.time, rows)?;
+        let bins = rows.first().map_or(0, Vec::len);
+        let centres: Vec<f64> = (0..bins)
+            .map(|b| (b as f64 + 0.5) * sides[axis] / bins as f64)
+            .collect();
+        g.new_dataset_builder()
+            .with_data(&ndarray::Array1::from(centres))
+            .create("position")?;
+    }
+    Ok(())
+}

@@ -5,8 +5,8 @@ use std::time::Instant;
 
 use edmd_core::theory::haff_rate;
 use edmd_core::{
-    Boundary, Channel, Column, ConstantRestitution, Container, EdmdError, Law, Periodic,
-    Remedy as CoreRemedy, Rule, ThesisRestitution, ThresholdRestitution, Walls,
+    Boundary, Channel, Column, ConstantRestitution, Container, EdmdError, Law, LeesEdwards,
+    Periodic, Remedy as CoreRemedy, Rule, ThesisRestitution, ThresholdRestitution, Walls,
 };
 
 use crate::classify::{critical_box_sides, Class, Classification, OrderSeries, Theory};
@@ -14,10 +14,14 @@ pub use crate::record::Status;
 use crate::spec::{viscoelastic, BoundaryKind, Remedy, Replica, RuleSpec, Spec};
 
 mod scene_theory;
+mod shear;
 mod simulate;
+mod stall;
 pub use scene_theory::{
-    density_profile_theory, rotational_ratio_theory, species_temperature_theory, ProfileTheory,
+    density_profile_theory, rotational_ratio_theory, shear_theory, species_temperature_theory,
+    ProfileTheory,
 };
+pub use shear::{profile_bins, ShearSeries};
 use simulate::simulate;
 
 /// Observables sampled at the points of the schedule.
@@ -56,6 +60,8 @@ pub struct Series {
     pub density_profile: Vec<Vec<f64>>,
     /// Order parameters (empty unless the spec has a `classify` section).
     pub order: OrderSeries,
+    /// The observables of a sheared replica (empty elsewhere).
+    pub shear: ShearSeries,
 }
 
 /// Positions and velocities at one instant, in the original particle order.
@@ -71,6 +77,8 @@ pub struct Snapshot {
     pub velocity: Vec<f64>,
     /// Angular velocities of rough grains, N × 1 (2D) or N × 3 (3D), row-major; empty when smooth.
     pub angular_velocity: Vec<f64>,
+    /// Displacement along x of the images above the box (0 where the box is not sheared).
+    pub box_offset: f64,
 }
 
 /// Everything a replica produced.
@@ -200,7 +208,7 @@ fn by_boundary<const D: usize>(
         return match r.boundary {
             BoundaryKind::Walls => by_grain::<D, Container>(spec, r, rule, progress),
             BoundaryKind::Channel => by_grain::<D, Column>(spec, r, rule, progress),
-            BoundaryKind::Periodic => Err(EdmdError::invalid(
+            BoundaryKind::Periodic | BoundaryKind::LeesEdwards => Err(EdmdError::invalid(
                 "gravity",
                 r.gravity,
                 "needs walls on the last axis",
@@ -211,6 +219,7 @@ fn by_boundary<const D: usize>(
         BoundaryKind::Periodic => by_grain::<D, Periodic>(spec, r, rule, progress),
         BoundaryKind::Walls => by_grain::<D, Walls>(spec, r, rule, progress),
         BoundaryKind::Channel => by_grain::<D, Channel>(spec, r, rule, progress),
+        BoundaryKind::LeesEdwards => by_grain::<D, LeesEdwards>(spec, r, rule, progress),
     }
 }
 
@@ -221,6 +230,7 @@ pub(crate) fn preflight(spec: &Spec, r: &Replica) -> Result<(), EdmdError> {
         let p = simulate::init_params::<D>(spec, r).0;
         match (r.boundary, r.gravity > 0.0) {
             (BoundaryKind::Periodic, _) => p.preflight::<Periodic>(),
+            (BoundaryKind::LeesEdwards, _) => p.preflight::<LeesEdwards>(),
             (BoundaryKind::Walls, false) => p.preflight::<Walls>(),
             (BoundaryKind::Channel, false) => p.preflight::<Channel>(),
             (BoundaryKind::Walls, true) => p.preflight::<Container>(),
@@ -250,7 +260,7 @@ fn by_grain<const D: usize, B: Boundary>(
 
 /// What linear theory says about a replica's box (critical sizes halved when any axis has walls).
 pub fn theory(spec: &Spec, r: &Replica) -> Theory {
-    let periodic = r.boundary == BoundaryKind::Periodic;
+    let periodic = r.boundary.periodic();
     let (lp, lq) = critical_box_sides(r.dim, r.eps, r.phi(), periodic);
     let grid = spec
         .classify

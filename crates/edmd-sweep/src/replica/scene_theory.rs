@@ -1,14 +1,14 @@
 //! What theory says about a replica's scene, written beside the measurement so that figures and users
 //! compare against the files alone: species temperatures of mixtures (PHYSICS.md §2.4), the
-//! rotational-to-translational ratio of rough grains (§6.6–6.7) and the barometric profile of an elastic
-//! column (§1.4).
+//! rotational-to-translational ratio of rough grains (§6.6–6.7), the barometric profile of an elastic
+//! column (§1.4) and the steady uniform shear flow (§7.1).
 
 use std::collections::HashMap;
 use std::sync::Mutex;
 
 use edmd_core::theory::{
-    barometric_floor, barometric_profile, temperature_ratios, Component, PairCorrelation,
-    RoughCooling, RoughSonine,
+    barometric_floor, barometric_profile, chi, temperature_ratios, Component, PairCorrelation,
+    RoughCooling, RoughSonine, ShearFlow,
 };
 
 use super::Series;
@@ -141,5 +141,23 @@ pub fn density_profile_theory(r: &Replica, s: &Series, bins: usize) -> Option<Pr
     Some(ProfileTheory {
         temperature,
         density,
+    })
+}
+
+/// The dilute theory of a sheared replica's steady flow (Grad's solution, PHYSICS.md §7.1), and the
+/// temperature its shear rate sustains (ν0 with the Enskog χ of its φ); None unless the grains are
+/// smooth, of one species, with constant restitution below 1 and a shear rate above 0.
+pub fn shear_theory(spec: &Spec, r: &Replica) -> Option<(ShearFlow, f64)> {
+    let applies = r.sheared()
+        && r.shear_rate > 0.0
+        && r.eps < 1.0
+        && !r.rough()
+        && r.species.is_none()
+        && matches!(spec.rule, RuleSpec::Constant {});
+    applies.then(|| {
+        let flow = ShearFlow::new(r.dim, r.eps);
+        let n = r.n as f64 / r.sides().iter().product::<f64>();
+        let t = flow.steady_temperature(r.shear_rate, n, chi(r.dim, r.phi()));
+        (flow, t)
     })
 }

@@ -3,8 +3,8 @@
 
 use edmd_core::theory::haff_temperature_tau;
 use edmd_core::{
-    order_parameters, Boundary, CollisionRule, Counters, EdmdError, Engine, InitParams, RunEnd,
-    Schedule, SimParams, Simulation, Stop, Vector, Velocities, VirialMeter,
+    order_parameters, Boundary, CollisionRule, EdmdError, Engine, InitParams, RunEnd, Schedule,
+    SimParams, Simulation, Stop, Vector, Velocities, VirialMeter,
 };
 
 use super::{theory, Outcome, Series, Snapshot, Status};
@@ -18,7 +18,7 @@ const CHUNK_EVENTS: u64 = 500_000;
 /// collision per `STALL_EVENTS_PER_COLLISION` events has stopped colliding: an inelastic gas can order
 /// into lanes that stream past each other and only cross cells. Without this guard such a replica
 /// would spend ever more events per τ and never end.
-const STALL_EVENTS_PER_COLLISION: u64 = 1000;
+pub(super) const STALL_EVENTS_PER_COLLISION: u64 = 1000;
 const STALL_WINDOW_PER_PARTICLE: u64 = 1000;
 
 fn flat<const D: usize>(v: &[Vector<D>]) -> Vec<f64> {
@@ -46,6 +46,7 @@ fn snapshot<const D: usize>(sim: &dyn Engine<D>) -> Snapshot {
         position: flat(&sim.positions()),
         velocity: flat(&sim.velocities()),
         angular_velocity: spins(sim),
+        box_offset: sim.shear_offset(),
     }
 }
 
@@ -93,12 +94,13 @@ pub(super) fn init_params<const D: usize>(spec: &Spec, r: &Replica) -> (InitPara
         p.radii = Some(species_of.iter().map(|&k| 0.5 * m[k].diameter).collect());
         p.masses = Some(species_of.iter().map(|&k| m[k].mass_in(D)).collect());
     }
-    // Walls, gravity and a thermal floor of the scene (PHYSICS.md §1.4).
-    if r.gravity > 0.0 || r.wall_eps != 1.0 || r.floor_temperature > 0.0 {
+    // Walls, gravity and a thermal floor of the scene (PHYSICS.md §1.4), or its shear (§7).
+    if r.gravity > 0.0 || r.wall_eps != 1.0 || r.floor_temperature > 0.0 || r.sheared() {
         p.sim = Some(SimParams {
             gravity: r.gravity,
             wall_epsilon: r.wall_eps,
             floor_temperature: r.floor_temperature,
+            shear_rate: if r.sheared() { r.shear_rate } else { 0.0 },
             ..p.default_sim_params()
         });
     }
@@ -210,7 +212,12 @@ fn drive<const D: usize>(
         if r.species.is_some() {
             // T_k = Σ_{a∈k} m v_a² / (d N_k), species in order.
             let mut e = vec![0.0; counts.len()];
-            for ((v, m), &k) in sim.velocities().iter().zip(&masses).zip(species_of) {
+            for ((v, m), &k) in sim
+                .peculiar_velocities()
+                .iter()
+                .zip(&masses)
+                .zip(species_of)
+            {
                 e[k] += m * v.norm_squared();
             }
             series.species_temperature.push(
@@ -219,6 +226,9 @@ fn drive<const D: usize>(
                     .map(|(e, &c)| e / (D as f64 * c as f64))
                     .collect(),
             );
+        }
+        if r.sheared() {
+            series.shear.sample(sim, &masses);
         }
         if sim.rough() {
             // T_rot = Σ I ω² / (d_rot N) (PHYSICS.md §6.5), beside the translational T.
@@ -281,7 +291,7 @@ fn drive<const D: usize>(
             );
             if events >= STALL_WINDOW_PER_PARTICLE * r.n as u64 {
                 if pairs * STALL_EVENTS_PER_COLLISION < events {
-                    stalled = Some(stall_reason(r, &window, &c, sim.tau()));
+                    stalled = Some(super::stall::stall_reason(r, &window, &c, sim.tau()));
                 }
                 window = c;
             }
@@ -387,6 +397,8 @@ fn drive<const D: usize>(
             haff_deviation: Vec::new(),
             note: if r.gravity > 0.0 {
                 "gravity: a stratified column is not free cooling".into()
+            } else if r.sheared() {
+                "sheared: a driven flow is not free cooling".into()
             } else {
                 "driven by a thermal floor: not free cooling".into()
             },
@@ -434,42 +446,6 @@ fn drive<const D: usize>(
         classification,
         per_cell: theory.per_cell,
     })
-}
-
-/// Why a replica stopped colliding before its stop, from the counters at the start (`from`) and the
-/// end (`to`) of the window in which fewer than one event in [`STALL_EVENTS_PER_COLLISION`] was a
-/// pair collision.
-fn stall_reason(r: &Replica, from: &Counters, to: &Counters, tau: f64) -> String {
-    let events = to.events - from.events;
-    let pairs = to.pair_collisions - from.pair_collisions;
-    let walls = to.wall_collisions - from.wall_collisions;
-    let head =
-        format!("stalled at tau = {tau:.4}: {pairs} pair collisions in the last {events} events");
-    if 2 * walls > events {
-        let mut losses = Vec::new();
-        if r.wall_eps < 1.0 {
-            losses.push(format!("inelastic walls (wall_eps = {})", r.wall_eps));
-        }
-        if r.floor_temperature > 0.0 {
-            losses.push(format!("a floor at T = {:e}", r.floor_temperature));
-        }
-        let cause = if losses.is_empty() {
-            String::new()
-        } else {
-            format!("; energy lost to {}", losses.join(" and "))
-        };
-        let gravity = if r.gravity > 0.0 {
-            "; the grains bounce ever lower on the floor"
-        } else {
-            ""
-        };
-        format!("{head}, {walls} of them wall collisions: a wall-collision cascade{cause}{gravity}")
-    } else {
-        format!(
-            "{head}, {} of them cell crossings: collisions ceased (the gas streams in lanes)",
-            to.crossings - from.crossings
-        )
-    }
 }
 
 /// Two schedule points closer than round-off are one sample (a snapshot grid point and a sample

@@ -377,6 +377,7 @@ fn grid_size(g: &Grid) -> f64 {
         g.species.as_ref().map_or(1, |a| a.0.len()),
         g.aspect.as_ref().map_or(1, |a| a.0.len()),
         g.gravity.values().len(),
+        g.shear_rate.values().len(),
         g.wall_eps.values().len(),
         g.floor_temperature.as_ref().map_or(1, |f| f.values().len()),
     ];

@@ -20,6 +20,7 @@ impl Spec {
             |field: &str, value: f64, d: &Domain| within(&format!("{at}.{field}"), value, d);
         for (field, axis, d) in [
             ("gravity", &g.gravity, &domain::GRAVITY),
+            ("shear_rate", &g.shear_rate, &domain::SHEAR_RATE),
             ("wall_eps", &g.wall_eps, &domain::WALL_EPS),
         ] {
             no_duplicates(at, field, axis)?;
@@ -64,11 +65,34 @@ impl Spec {
             ),
         ];
         for (needed, field, value) in walls_needed {
-            if needed && g.boundary.values().contains(&BoundaryKind::Periodic) {
+            if let Some(b) = g.boundary.values().into_iter().find(|b| b.periodic()) {
+                if needed {
+                    return bad(
+                        field,
+                        &value,
+                        &format!(
+                            "needs walls on the last axis: boundary \"walls\" or \"channel\", not \"{}\"",
+                            b.name()
+                        ),
+                    );
+                }
+            }
+        }
+        // Shear needs the sliding box, and the sliding box is sheared only by its rate.
+        if g.shear_rate.values().iter().any(|&a| a > 0.0) {
+            if let Some(b) = g
+                .boundary
+                .values()
+                .into_iter()
+                .find(|&b| b != BoundaryKind::LeesEdwards)
+            {
                 return bad(
-                    field,
-                    &value,
-                    "needs walls on the last axis: boundary \"walls\" or \"channel\", not \"periodic\"",
+                    "shear_rate",
+                    &format!("{:?}", g.shear_rate.values()),
+                    &format!(
+                        "needs boundary \"lees-edwards\" (the sliding periodic box), not \"{}\"",
+                        b.name()
+                    ),
                 );
             }
         }

@@ -37,6 +37,8 @@ pub struct Replica {
     pub aspect: Option<Arc<Vec<f64>>>,
     /// Gravity along −(last axis) (0: none).
     pub gravity: f64,
+    /// Shear rate of a Lees–Edwards box (0: none).
+    pub shear_rate: f64,
     /// Wall restitution (1: elastic).
     pub wall_eps: f64,
     /// Temperature of a thermal floor (0: none).
@@ -93,9 +95,15 @@ impl Replica {
         }
     }
 
-    /// Whether the scene has gravity or a thermal floor (not free cooling: no classification).
+    /// Whether the scene has gravity, a thermal floor or shear (not free cooling: no free-cooling
+    /// classification).
     pub fn driven_or_stratified(&self) -> bool {
-        self.gravity > 0.0 || self.floor_temperature > 0.0
+        self.gravity > 0.0 || self.floor_temperature > 0.0 || self.sheared()
+    }
+
+    /// Whether the box is a Lees–Edwards box (sheared at `shear_rate`, possibly 0).
+    pub fn sheared(&self) -> bool {
+        self.boundary == BoundaryKind::LeesEdwards
     }
 
     /// `""` for a free periodic or walled box; `, g=0.1, wall_eps=0.9, floor_T=2, aspect=2x1` for
@@ -104,6 +112,9 @@ impl Replica {
         let mut out = String::new();
         if self.gravity > 0.0 {
             out += &format!(", g={}", self.gravity);
+        }
+        if self.sheared() {
+            out += &format!(", a={}", self.shear_rate);
         }
         if self.wall_eps != 1.0 {
             out += &format!(", wall_eps={}", self.wall_eps);
@@ -245,7 +256,8 @@ pub fn stable_hash(bytes: &[u8]) -> u64 {
 
 impl Spec {
     /// The replicas in expansion order: grid by grid; within a grid dim, species, aspect, boundary,
-    /// remedy, n, density, eps, beta, gravity, wall_eps, floor_temperature, seed (seed fastest).
+    /// remedy, n, density, eps, beta, gravity, shear_rate, wall_eps, floor_temperature, seed (seed
+    /// fastest).
     pub fn replicas(&self) -> Vec<Replica> {
         let mut out = Vec::new();
         for g in self.grid.values() {
@@ -270,12 +282,15 @@ impl Spec {
             .floor_temperature
             .as_ref()
             .map_or(vec![0.0], |f| f.values());
-        // The scene axes varying inside beta: gravity, wall restitution, floor temperature.
+        // The scene axes varying inside beta: gravity, shear rate, wall restitution, floor
+        // temperature.
         let mut scenes = Vec::new();
         for gravity in g.gravity.values() {
-            for wall_eps in g.wall_eps.values() {
-                for &floor in &floors {
-                    scenes.push((gravity, wall_eps, floor));
+            for shear_rate in g.shear_rate.values() {
+                for wall_eps in g.wall_eps.values() {
+                    for &floor in &floors {
+                        scenes.push((gravity, shear_rate, wall_eps, floor));
+                    }
                 }
             }
         }
@@ -320,7 +335,9 @@ impl Spec {
                             for &(n, density) in &pairs {
                                 for eps in g.eps.values() {
                                     for beta in g.beta.values() {
-                                        for &(gravity, wall_eps, floor_temperature) in &scenes {
+                                        for &(gravity, shear_rate, wall_eps, floor_temperature) in
+                                            &scenes
+                                        {
                                             for seed_index in 0..g.seeds {
                                                 let mut r = Replica {
                                                     index: out.len(),
@@ -332,6 +349,7 @@ impl Spec {
                                                     species: mixture.clone(),
                                                     aspect: aspect.clone(),
                                                     gravity,
+                                                    shear_rate,
                                                     wall_eps,
                                                     floor_temperature,
                                                     density,

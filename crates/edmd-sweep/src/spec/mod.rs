@@ -273,6 +273,11 @@ pub struct Grid {
     #[serde(default = "default_zero", skip_serializing_if = "is_zero")]
     #[schemars(schema_with = "domain::gravity_axis")]
     pub gravity: OneOrMany<f64>,
+    /// Shear rate a ≥ 0 of a `"lees-edwards"` box (default 0): the images across the y faces slide
+    /// along x at a L_y, driving the uniform shear flow u_x = a (y − L_y/2) (PHYSICS.md §7).
+    #[serde(default = "default_zero", skip_serializing_if = "is_zero")]
+    #[schemars(schema_with = "domain::shear_rate_axis")]
+    pub shear_rate: OneOrMany<f64>,
     /// Normal restitution of the walls, in [0, 1] (default 1: elastic).
     #[serde(default = "default_one", skip_serializing_if = "is_one")]
     #[schemars(schema_with = "domain::wall_eps_axis")]
