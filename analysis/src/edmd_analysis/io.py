@@ -159,6 +159,8 @@ class Replica:
     profile_position: np.ndarray | None = None
     profile_theory: np.ndarray | None = None
     profile_theory_temperature: float | None = None
+    # The bin centres of every profile observable (those with a `position` dataset), by name.
+    positions: Dict[str, np.ndarray] = field(default_factory=dict)
 
     @property
     def status(self) -> str:
@@ -196,6 +198,8 @@ def read_replica(path) -> Replica:
         if "observables" in f:
             for name, g in f["observables"].items():
                 rep.observables[name] = g["value"][()]
+                if "position" in g:
+                    rep.positions[name] = g["position"][()]
             first = next(iter(f["observables"].values()))
             rep.step = first["step"][()]
             rep.time = first["time"][()]
@@ -236,6 +240,39 @@ class Snapshots:
     angular_velocity: np.ndarray | None = None
     # Species index of each grain of a mixture, (N,); zeros for one species.
     species: np.ndarray | None = None
+    # Lees-Edwards boxes: the sliding images' x offset at each snapshot, (k,), and the shear rate;
+    # None and 0 elsewhere (docs/output.md).
+    offset: np.ndarray | None = None
+    shear_rate: float = 0.0
+
+    def images(self, k: int, margin: float):
+        """Indices and positions of the images that show within ``margin`` outside the box in frame
+        ``k``: the periodic images across every face, and across the y faces of a sheared box the
+        sliding ones, shifted by +-offset along x. For drawing; (indices, positions (m, D))."""
+        pos = self.position[k]
+        box = np.asarray(self.box, dtype=float)
+        dim = pos.shape[1]
+        idx, out = [], []
+        shifts = [-1, 0, 1]
+        for sx in shifts:
+            for sy in shifts:
+                if sx == 0 and sy == 0:
+                    continue
+                if (sx and self.boundary[0] != "periodic") or (sy and self.boundary[1] != "periodic"):
+                    continue
+                p = pos.copy()
+                p[:, 0] += sx * box[0]
+                p[:, 1] += sy * box[1]
+                if sy and self.offset is not None:
+                    p[:, 0] += sy * self.offset[k]
+                    p[:, 0] = np.where(p[:, 0] > box[0] + margin, p[:, 0] - box[0], p[:, 0])
+                    p[:, 0] = np.where(p[:, 0] < -margin, p[:, 0] + box[0], p[:, 0])
+                keep = np.all((p[:, :2] > -margin) & (p[:, :2] < box[:2] + margin), axis=1)
+                idx.append(np.nonzero(keep)[0])
+                out.append(p[keep])
+        if not idx:
+            return np.zeros(0, dtype=np.int64), np.zeros((0, dim))
+        return np.concatenate(idx), np.concatenate(out)
 
 
 def snapshot_count(path) -> int:
@@ -268,4 +305,6 @@ def read_snapshots(path) -> Snapshots:
             mass=gas["mass"][()],
             angular_velocity=gas["angular_velocity/value"][()] if "angular_velocity" in gas else None,
             species=gas["species"][()] if "species" in gas else np.zeros(n, dtype=np.int64),
+            offset=gas["box/offset/value"][()] if "offset" in gas["box"] else None,
+            shear_rate=float(gas["box/offset"].attrs["shear_rate"]) if "offset" in gas["box"] else 0.0,
         )

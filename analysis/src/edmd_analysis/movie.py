@@ -85,16 +85,33 @@ def _visible(snaps: io.Snapshots, k: int):
 
 def _speed(snaps: io.Snapshots, k: int) -> np.ndarray:
     """|v_i| / sqrt(D T / m_i), T = sum m v^2 / (D N): the speed in rms speeds of its own mass."""
-    v = snaps.velocity[k]
+    v = snaps.velocity[k].copy()
+    if snaps.offset is not None:  # relative to the flow u_x = a (y - L_y/2) of a sheared box
+        v[:, 0] -= snaps.shear_rate * (snaps.position[k][:, 1] - 0.5 * snaps.box[1])
     m = np.asarray(snaps.mass, dtype=float)
     dim = v.shape[1]
     t = (m * (v**2).sum(axis=1)).sum() / (dim * len(m))
     return np.sqrt((v**2).sum(axis=1)) / (np.sqrt(dim * t / m) if t > 0 else 1.0)
 
 
+def _with_images(snaps: io.Snapshots, k: int, idx, xy, d):
+    """A sheared box: the drawn grains and, after them, their images within a margin of the box
+    (the sliding ones across the y faces); returns (indices, centres, diameters, margin, how many
+    are grains). Other boxes: what it was given, margin 0."""
+    if snaps.offset is None:
+        return idx, xy, d, 0.0, len(idx)
+    margin = 0.15 * float(snaps.box[1])
+    ii, pp = snaps.images(k, margin)
+    where = {int(g): j for j, g in enumerate(idx)}
+    keep = [n for n, g in enumerate(ii) if int(g) in where]
+    rows = [where[int(ii[n])] for n in keep]
+    return (np.concatenate([idx, ii[keep]]), np.concatenate([xy, pp[keep, :2]]),
+            np.concatenate([d, d[rows]]), margin, len(idx))
+
+
 def _draw(ax, snaps, k, colour, arrows, title):
     ax.clear()
-    idx, xy, d = _visible(snaps, k)
+    idx, xy, d, margin, grains = _with_images(snaps, k, *_visible(snaps, k))
     style = dict(units="xy", offsets=xy, offset_transform=ax.transData, linewidth=0.2)
     if colour == "species":
         sp = np.asarray(snaps.species)[idx]
@@ -115,13 +132,26 @@ def _draw(ax, snaps, k, colour, arrows, title):
     else:
         ax.add_collection(EllipseCollection(d, d, np.zeros_like(d), facecolor="#9ecae1",
                                             edgecolor="#3182bd", **style))
-    if arrows and len(idx):
-        vel = snaps.velocity[k][idx, :2]
+    if arrows and grains:
+        vel = snaps.velocity[k][idx[:grains], :2]
         scale = np.sqrt((snaps.velocity[k] ** 2).sum(axis=1).mean()) or 1.0
-        ax.quiver(xy[:, 0], xy[:, 1], vel[:, 0] / scale, vel[:, 1] / scale, angles="xy",
+        ax.quiver(xy[:grains, 0], xy[:grains, 1], vel[:, 0] / scale, vel[:, 1] / scale, angles="xy",
                   scale_units="xy", scale=0.5, width=0.0015, color="k")
-    ax.set_xlim(0, snaps.box[0])
-    ax.set_ylim(0, snaps.box[1])
+    ax.set_xlim(-margin, snaps.box[0] + margin)
+    ax.set_ylim(-margin, snaps.box[1] + margin)
+    if margin > 0:
+        # The images, outside the box, under a white veil; the box's outline.
+        from matplotlib.patches import PathPatch, Rectangle
+        from matplotlib.path import Path as MPath
+
+        lx, ly = float(snaps.box[0]), float(snaps.box[1])
+        outer = [(-margin, -margin), (lx + margin, -margin), (lx + margin, ly + margin),
+                 (-margin, ly + margin), (-margin, -margin)]
+        inner = [(0, 0), (0, ly), (lx, ly), (lx, 0), (0, 0)]
+        codes = [MPath.MOVETO] + [MPath.LINETO] * 3 + [MPath.CLOSEPOLY]
+        veil = MPath(outer + inner, codes + codes)
+        ax.add_patch(PathPatch(veil, facecolor="white", alpha=0.55, edgecolor="none", zorder=3))
+        ax.add_patch(Rectangle((0, 0), lx, ly, fill=False, edgecolor="k", lw=0.8, zorder=4))
     ax.set_aspect("equal")
     ax.set_xticks([])
     ax.set_yticks([])

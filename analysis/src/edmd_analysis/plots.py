@@ -272,3 +272,88 @@ def phase_diagram(ax, rows: Sequence[dict], x: str = "l_over_l_perp", size: floa
     ax.set_ylabel(y)
     ax.legend(frameon=False, fontsize="small")
     return ax
+
+
+def steady_shear(rep, last: float = 0.5) -> dict:
+    """The steady state of a sheared replica (Lees-Edwards), averaged over the last ``last`` of its
+    samples: temperature ``t``, reduced pressure tensor ``p_star`` (D x D, P/(nT)), reduced shear
+    rate ``a_star`` = a/nu0(T) and viscosity ``eta_star`` = -P*_xy/a*, and the theory's values
+    (``*_theory``; NaN where the dilute theory does not apply). nu0 is the one of the theory
+    (PHYSICS.md 7.1), recovered from the file's theory temperature: nu0(T) = a / (a*_th sqrt(T_th/T))."""
+    obs, p = rep.observables, rep.params
+    if "pressure_tensor" not in obs:
+        raise KeyError(f"{rep.path}: no pressure tensor (not a sheared replica)")
+    start = int(len(rep.step) * (1 - last))
+    tensor = np.asarray(obs["pressure_tensor"])[start:]
+    tensor = tensor[np.all(np.isfinite(tensor), axis=(1, 2))]
+    t = float(np.mean(obs["temperature"][start:]))
+    volume = float(np.prod(p["box_sides"]))
+    density = float(p["n"]) / volume
+    p_star = tensor.mean(axis=0) / (density * t)
+    a = float(p["shear_rate"])
+    a_th, t_th = float(p["shear_theory_reduced_rate"]), float(p["shear_theory_temperature"])
+    a_star = a_th * np.sqrt(t_th / t) if np.isfinite(a_th) else np.nan
+    return {
+        "eps": float(p["eps"]), "dim": int(p["dim"]), "shear_rate": a, "t": t, "p_star": p_star,
+        "a_star": a_star, "eta_star": -p_star[0, 1] / a_star if a_star else np.nan,
+        "a_star_theory": a_th, "eta_star_theory": float(p["shear_theory_viscosity"]),
+        "pxx_theory": float(p["shear_theory_pxx"]), "pyy_theory": float(p["shear_theory_pyy"]),
+    }
+
+
+def shear_rheology(axes, reps, last: float = 0.5):
+    """The steady sheared gas against restitution, one row of ``axes`` (three Axes: a*, eta*,
+    normal stresses) per dimension present: simulation (points, the mean of the replicas of one
+    eps) against Grad's dilute theory (lines; PHYSICS.md 7.1)."""
+    states = [steady_shear(r, last) for r in reps]
+    dims = sorted({s["dim"] for s in states})
+    axes = np.atleast_2d(axes)
+    for row, dim in zip(axes, dims):
+        mine = [s for s in states if s["dim"] == dim]
+        eps = sorted({s["eps"] for s in mine})
+
+        def mean(key, i=None, j=None, mine=mine, eps=eps):
+            out = []
+            for e in eps:
+                vals = [s[key] if i is None else s[key][i, j] for s in mine if s["eps"] == e]
+                out.append(np.mean(vals))
+            return np.array(out)
+
+        for ax, key, label in ((row[0], "a_star", "a* = a / nu0"), (row[1], "eta_star", "eta* = -P*_xy / a*")):
+            ax.plot(eps, mean(key), "o", label="simulation")
+            ax.plot(eps, mean(key + "_theory"), "k--", lw=1, label="Grad (dilute)")
+            ax.set_ylabel(label)
+        names = "xyz"
+        for i in range(dim):
+            line, = row[2].plot(eps, mean("p_star", i, i), "o", label=f"P*_{names[i]}{names[i]}")
+            th = mean("pxx_theory") if i == 0 else mean("pyy_theory")
+            row[2].plot(eps, th, "--", lw=1, color=line.get_color())
+        row[2].set_ylabel("P_ii / (n T)")
+        for ax in row:
+            ax.set_xlabel("restitution eps")
+            ax.set_title(f"{dim}D", fontsize="small")
+            ax.legend(frameon=False, fontsize="small")
+    return axes
+
+
+def stream_profile(ax, rep, last: float = 0.5):
+    """The stream velocity u_x(y) of a sheared replica, averaged over the last ``last`` of its samples,
+    against the imposed flow a (y - L_y/2); on a second axis the density along y over its mean (flat
+    in a homogeneous flow, banded otherwise)."""
+    obs = rep.observables
+    if "velocity_profile" not in obs:
+        raise KeyError(f"{rep.path}: no velocity profile (not a sheared replica)")
+    start = int(len(rep.step) * (1 - last))
+    u = np.nanmean(np.asarray(obs["velocity_profile"])[start:], axis=0)
+    rho = np.asarray(obs["density_profile_y"])[start:].mean(axis=0)
+    y = rep.positions["velocity_profile"]
+    a, ly = float(rep.params["shear_rate"]), float(rep.params["box_sides"][1])
+    ax.plot(y, u, "o", ms=3, label="simulation")
+    ax.plot(y, a * (y - ly / 2), "k--", lw=1, label="a (y - L_y/2)")
+    ax.set_xlabel("y")
+    ax.set_ylabel("u_x")
+    twin = ax.twinx()
+    twin.plot(y, rho / rho.mean(), color="#d95f0e", lw=1, label="density / mean")
+    twin.set_ylabel("n(y) / mean", color="#d95f0e")
+    ax.legend(frameon=False, fontsize="small", loc="upper left")
+    return ax

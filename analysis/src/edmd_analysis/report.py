@@ -121,8 +121,15 @@ LEGENDS = {
     "phase-diagram": "Each grid point as a pie of its replicas' classes (kinetic, shearing, "
                      "clustering) over the grid axis that varies; against L/L_perp, dashed and dotted "
                      "lines mark the theory's L = L_perp and L = L_par.",
+    "shear-rheology": "The steady sheared gas against restitution, averaged over the second half of "
+                      "each run: reduced shear rate a* = a/nu0, viscosity eta* and normal stresses "
+                      "P_ii/(nT) (points) against Grad's dilute theory (dashed; docs/PHYSICS.md 7.1).",
+    "stream-profiles": "Stream velocity u_x(y) of sheared replicas over the second half of the run "
+                       "against the imposed a (y - L_y/2); orange: density along y over its mean "
+                       "(flat when the flow is homogeneous).",
     "movie-": "Movie of one replica of this class: disks to scale coloured by speed in units of the "
-              "current rms speed (or by species / spin), tau and T/T0 in the title.",
+              "current rms speed (or by species / spin), tau and T/T0 in the title; a sheared box "
+              "shows its sliding images faded around it, speeds relative to the flow.",
 }
 
 MOVIE_CLASSES = ("kinetic", "shearing", "clustering")
@@ -206,6 +213,19 @@ def _phase_figure(dest: Path, rows):
     return saved
 
 
+def _rheology_figure(dest: Path, paths):
+    saved: list = []
+    reps = [io.read_replica(p) for p in paths]
+    reps = [r for r in reps if np.isfinite(float(r.params.get("shear_theory_reduced_rate", np.nan)))]
+    if not reps:
+        return saved
+    dims = sorted({int(r.params["dim"]) for r in reps})
+    fig, axes = plt.subplots(len(dims), 3, figsize=(12, 3.6 * len(dims)), squeeze=False)
+    plots.shear_rheology(axes, reps)
+    _save(fig, dest, "shear-rheology", saved)
+    return saved
+
+
 def _run(task):
     draw, args = task
     return draw(*args)
@@ -285,6 +305,13 @@ def _write_report(out: Path, dest: Path, index, max_points: int, movies: bool, j
                                       [paths[k] for k in classified], [titles[k] for k in classified])))
         if rows and any(r.get("kinetic") is not None for r in rows):
             tasks.append((_phase_figure, (dest, rows)))
+    sheared = [k for k in range(len(chosen)) if "pressure_tensor" in held[k]]
+    if sheared:
+        tasks.append((_panel_figure, (dest, "stream-profiles", plots.stream_profile,
+                                      [paths[k] for k in sheared], [titles[k] for k in sheared])))
+        all_sheared = [index.replica_path(i) for i in range(len(index))
+                       if index["boundary"][i] == "lees-edwards" and index["status"][i] == "done"]
+        tasks.append((_rheology_figure, (dest, all_sheared)))
     if movies:
         tasks += _movie_tasks(index, dest)
     saved = _render(tasks, jobs)

@@ -118,9 +118,14 @@ pub fn phase_table(spec: &Spec, records: &[Record]) -> Vec<PointRow> {
             } else {
                 f64::NAN
             };
-            let periodic = first.boundary == BoundaryKind::Periodic.name()
-                || first.boundary == BoundaryKind::LeesEdwards.name();
-            let (lp, lq) = critical_box_sides(first.dim, first.eps, first.phi, periodic);
+            // The free-cooling instability's critical sizes (not defined for a sheared box).
+            let sheared = first.boundary == BoundaryKind::LeesEdwards.name();
+            let periodic = first.boundary == BoundaryKind::Periodic.name();
+            let (lp, lq) = if sheared {
+                (f64::NAN, f64::NAN)
+            } else {
+                critical_box_sides(first.dim, first.eps, first.phi, periodic)
+            };
             // Gravity and thermal floors are not free cooling: no fractions (not_applicable).
             let classified =
                 spec.classify.is_some() && g.iter().any(|r| r.class != Class::NotApplicable.name());
