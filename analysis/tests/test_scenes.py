@@ -17,13 +17,14 @@ from conftest import REPO, run_edmd  # noqa: E402
 from edmd_analysis import plots  # noqa: E402
 from edmd_analysis import report as report_module  # noqa: E402
 
-READY = ("rough-beta", "mixture-mass-ratio", "heated-column", "shear-eps")
+READY = ("rough-beta", "mixture-mass-ratio", "heated-column", "shear-eps", "shear-phase")
 # The figures each ready spec's report must draw beyond the common ones.
 FIGURES = {
     "rough-beta": {"rotational-ratio.png", "phase-diagram.png"},
     "mixture-mass-ratio": {"species-temperatures.png", "phase-diagram.png"},
     "heated-column": {"density-profiles.png"},
     "shear-eps": {"shear-rheology.png", "stream-profiles.png"},
+    "shear-phase": {"phase-diagram.png", "stream-profiles.png"},
 }
 
 
@@ -72,6 +73,19 @@ def test_ready_spec_files_read_with_h5py_and_pyh5md(ready, name):
                 a, sides = rep.params["shear_rate"], rep.params["box_sides"]
                 np.testing.assert_allclose(snaps.offset, np.mod(a * sides[1] * snaps.time, sides[0]),
                                            rtol=0, atol=1e-6 * sides[0])
+
+
+def test_sheared_flow_bands_in_large_boxes_only(ready):
+    """shear-phase.json: every replica is classified homogeneous or inhomogeneous; at each eps the
+    homogeneous fraction never grows with the box (the banding instability needs room), the
+    smallest box (L = 28) stays homogeneous and the largest (L = 113) bands at every eps."""
+    table = ea.read_phase_table(ready["shear-phase"])
+    assert set(np.unique(table["homogeneous"] + table["inhomogeneous"])) == {1.0}
+    for eps in np.unique(table["eps"]):
+        rows = table[table["eps"] == eps].sort_values("box_side")
+        h = rows["homogeneous"].to_numpy()
+        assert np.all(np.diff(h) <= 0), (eps, h)
+        assert h[0] == 1.0 and h[-1] == 0.0, (eps, h)
 
 
 def test_sheared_flow_meets_the_dilute_theory_at_eps_0_9(ready):

@@ -31,7 +31,8 @@ PHASE_COLUMNS = {
     "failed": "int64",
     "missing": "int64", "tau_end": "float64", "log10_t_ratio": "float64", "log10_t_haff": "float64",
     "l_over_l_perp": "float64", "l_over_l_par": "float64", "kinetic": "float64",
-    "shearing": "float64", "clustering": "float64", "shear_onset_tau": "float64",
+    "shearing": "float64", "clustering": "float64", "homogeneous": "float64",
+    "inhomogeneous": "float64", "shear_onset_tau": "float64",
     "cluster_onset_tau": "float64",
 }
 

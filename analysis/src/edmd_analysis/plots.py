@@ -24,6 +24,8 @@ CLASS_COLOURS = {
     "collapsed": "#555555",
     "stalled": "#8c6d31",
     "failed": "#bbbbbb",
+    "homogeneous": "#1a9641",
+    "inhomogeneous": "#7b3294",
 }
 
 
@@ -233,8 +235,11 @@ def phase_diagram(ax, rows: Sequence[dict], x: str = "l_over_l_perp", size: floa
     """The phase diagram from the phase table (``edmd summarize --format json``): ``y`` ('eps',
     'beta' or 'species') against ``x`` ('l_over_l_perp', 'phi', 'n' or 'box_side'), each point a pie
     of its class fractions, with the theory boundaries L = L_perp and L = L_par drawn when x is
-    L/L_perp and y is eps. Rows without class fractions (not_applicable scenes) are left out."""
+    L/L_perp and y is eps. Rows without class fractions (not_applicable scenes) are left out. A
+    sheared sweep's rows carry the classes homogeneous and inhomogeneous instead (no theory lines)."""
     classes = ["kinetic", "shearing", "clustering"]
+    if any(r.get("homogeneous") is not None for r in rows):
+        classes = ["homogeneous", "inhomogeneous"]
     rows = [r for r in rows if any(r.get(c) is not None for c in classes)]
     labels = sorted({str(r[y]) for r in rows}) if rows and isinstance(rows[0][y], str) else None
 
@@ -254,7 +259,7 @@ def phase_diagram(ax, rows: Sequence[dict], x: str = "l_over_l_perp", size: floa
             verts = np.column_stack([np.r_[0, np.cos(theta)], np.r_[0, np.sin(theta)]])
             ax.scatter([row[x]], [y_of(row)], marker=verts, s=size, c=CLASS_COLOURS[c], linewidths=0)
             start += f
-    if x == "l_over_l_perp":
+    if x == "l_over_l_perp" and classes[0] == "kinetic":
         if y == "eps":
             ax.axvline(1.0, color="k", lw=1, ls="--", label="L = L_perp")
             ratio = [r["l_over_l_perp"] / r["l_over_l_par"] for r in rows if r["l_over_l_par"] > 0]
@@ -268,6 +273,8 @@ def phase_diagram(ax, rows: Sequence[dict], x: str = "l_over_l_perp", size: floa
         ax.set_ylim(-0.5, len(labels) - 0.5)
     for c in classes:
         ax.scatter([], [], c=CLASS_COLOURS[c], label=c)
+    if x in ("box_side", "n") and rows and max(r[x] for r in rows) > 4 * min(r[x] for r in rows):
+        ax.set_xscale("log")
     ax.set_xlabel({"l_over_l_perp": "L / L_perp", "phi": "phi", "n": "N", "box_side": "L"}.get(x, x))
     ax.set_ylabel(y)
     ax.legend(frameon=False, fontsize="small")

@@ -84,7 +84,8 @@ def _save(fig, dest: Path, name: str, saved: list):
 
 def _x_axis(rows):
     """The phase diagram's abscissa: the grid axis that varies (L/L_perp for box scans)."""
-    for key, x in (("box_side", "l_over_l_perp"), ("phi", "phi"), ("n", "n")):
+    sheared = any(r.get("homogeneous") is not None for r in rows)
+    for key, x in (("box_side", "box_side" if sheared else "l_over_l_perp"), ("phi", "phi"), ("n", "n")):
         if len({r[key] for r in rows}) > 1:
             return x
     return "l_over_l_perp"
@@ -119,11 +120,13 @@ LEGENDS = {
     "order-parameters": "The classifier's order parameters over their thresholds (dotted line = 1): "
                         "crossing it marks shear (S_perp) or clustering (density variance).",
     "phase-diagram": "Each grid point as a pie of its replicas' classes (kinetic, shearing, "
-                     "clustering) over the grid axis that varies; against L/L_perp, dashed and dotted "
-                     "lines mark the theory's L = L_perp and L = L_par.",
+                     "clustering; for a sheared gas homogeneous or inhomogeneous flow) over the grid "
+                     "axis that varies; against L/L_perp, dashed and dotted lines mark the theory's "
+                     "L = L_perp and L = L_par.",
     "shear-rheology": "The steady sheared gas against restitution, averaged over the second half of "
-                      "each run: reduced shear rate a* = a/nu0, viscosity eta* and normal stresses "
-                      "P_ii/(nT) (points) against Grad's dilute theory (dashed; docs/PHYSICS.md 7.1).",
+                      "each run (replicas at phi <= 0.05): reduced shear rate a* = a/nu0, viscosity "
+                      "eta* and normal stresses P_ii/(nT) (points) against Grad's dilute theory "
+                      "(dashed; docs/PHYSICS.md 7.1).",
     "stream-profiles": "Stream velocity u_x(y) of sheared replicas over the second half of the run "
                        "against the imposed a (y - L_y/2); orange: density along y over its mean "
                        "(flat when the flow is homogeneous).",
@@ -132,7 +135,7 @@ LEGENDS = {
               "shows its sliding images faded around it, speeds relative to the flow.",
 }
 
-MOVIE_CLASSES = ("kinetic", "shearing", "clustering")
+MOVIE_CLASSES = ("kinetic", "shearing", "clustering", "homogeneous", "inhomogeneous")
 SNAPSHOT_PANELS = 6
 
 
@@ -216,7 +219,9 @@ def _phase_figure(dest: Path, rows):
 def _rheology_figure(dest: Path, paths):
     saved: list = []
     reps = [io.read_replica(p) for p in paths]
-    reps = [r for r in reps if np.isfinite(float(r.params.get("shear_theory_reduced_rate", np.nan)))]
+    # The dilute theory's replicas only (phi <= 0.05: Enskog's corrections of a few percent).
+    reps = [r for r in reps if np.isfinite(float(r.params.get("shear_theory_reduced_rate", np.nan)))
+            and float(r.params["phi"]) <= 0.05]
     if not reps:
         return saved
     dims = sorted({int(r.params["dim"]) for r in reps})
@@ -305,6 +310,8 @@ def _write_report(out: Path, dest: Path, index, max_points: int, movies: bool, j
                                       [paths[k] for k in classified], [titles[k] for k in classified])))
         if rows and any(r.get("kinetic") is not None for r in rows):
             tasks.append((_phase_figure, (dest, rows)))
+    elif rows and any(r.get("homogeneous") is not None for r in rows):
+        tasks.append((_phase_figure, (dest, rows)))
     sheared = [k for k in range(len(chosen)) if "pressure_tensor" in held[k]]
     if sheared:
         tasks.append((_panel_figure, (dest, "stream-profiles", plots.stream_profile,
@@ -325,6 +332,8 @@ def _html(index: io.Index, rows, images) -> str:
     head = ["eps", "beta", "species", "scene", "n", "phi", "box_side", "boundary", "remedy", "seeds", "done", "collapsed",
             "stalled", "failed", "tau_end", "log10_t_ratio", "log10_t_haff", "l_over_l_perp", "l_over_l_par",
             "kinetic", "shearing", "clustering", "shear_onset_tau", "cluster_onset_tau"]
+    if any(r.get("homogeneous") is not None for r in rows):
+        head += ["homogeneous", "inhomogeneous"]
 
     def cell(v):
         if v is None:

@@ -210,7 +210,8 @@ record_fields! {
     collisions: u64,
     /// τ of a detected collapse (NaN if none).
     collapse_tau: f64,
-    /// Regime (`kinetic`, `shearing`, `clustering`, `collapsed`, `failed`), or `unclassified`.
+    /// Regime (`kinetic`, `shearing`, `clustering`; `homogeneous`, `inhomogeneous` for a sheared box;
+    /// `collapsed`, `stalled`, `failed`, `not_applicable`), or `unclassified`.
     class: String,
     /// First τ of the shearing predicate (NaN if never or unclassified).
     shear_onset_tau: f64,

@@ -62,6 +62,12 @@ pub struct PointRow {
     pub shearing: f64,
     /// Fraction of seeds labelled clustering.
     pub clustering: f64,
+    /// Sheared boxes: fraction of seeds whose flow stayed homogeneous (absent elsewhere).
+    #[serde(skip_serializing_if = "is_nan")]
+    pub homogeneous: f64,
+    /// Sheared boxes: fraction of seeds whose flow formed bands or clusters (absent elsewhere).
+    #[serde(skip_serializing_if = "is_nan")]
+    pub inhomogeneous: f64,
     /// Median first-passage τ of the shearing predicate, over the seeds that reached it.
     pub shear_onset_tau: f64,
     /// Median first-passage τ of the clustering predicate, over the seeds that reached it.
@@ -129,17 +135,20 @@ pub fn phase_table(spec: &Spec, records: &[Record]) -> Vec<PointRow> {
             // Gravity and thermal floors are not free cooling: no fractions (not_applicable).
             let classified =
                 spec.classify.is_some() && g.iter().any(|r| r.class != Class::NotApplicable.name());
-            let frac = |c: &str| {
-                if classified {
+            // Free cooling's classes, or the sheared flow's (homogeneous, inhomogeneous).
+            let frac = |c: &str, of_shear: bool| {
+                if classified && of_shear == sheared {
                     g.iter().filter(|r| r.class == c).count() as f64 / g.len() as f64
                 } else {
                     f64::NAN
                 }
             };
             PointRow {
-                kinetic: frac("kinetic"),
-                shearing: frac("shearing"),
-                clustering: frac("clustering"),
+                kinetic: frac("kinetic", false),
+                shearing: frac("shearing", false),
+                clustering: frac("clustering", false),
+                homogeneous: frac("homogeneous", true),
+                inhomogeneous: frac("inhomogeneous", true),
                 shear_onset_tau: median(g.iter().map(|r| r.shear_onset_tau).collect()),
                 cluster_onset_tau: median(g.iter().map(|r| r.cluster_onset_tau).collect()),
                 dim: first.dim,
@@ -223,6 +232,8 @@ fn scene_label(r: &Record) -> String {
 }
 
 const COLUMNS: usize = 26;
+/// The sheared flow's class fractions, shown after the others when a row has them.
+const SHEAR_HEADER: [&str; 2] = ["homogeneous", "inhomogeneous"];
 const HEADER: [&str; COLUMNS] = [
     "D",
     "boundary",
@@ -251,6 +262,33 @@ const HEADER: [&str; COLUMNS] = [
     "tau_shear",
     "tau_cluster",
 ];
+
+/// The header and the cells of every row; the sheared flow's class fractions are two more columns
+/// when any row has them.
+fn table(rows: &[PointRow]) -> (Vec<&'static str>, Vec<Vec<String>>) {
+    let sheared = rows.iter().any(|r| !r.homogeneous.is_nan());
+    let mut header = HEADER.to_vec();
+    if sheared {
+        header.extend(SHEAR_HEADER);
+    }
+    let body = rows
+        .iter()
+        .map(|r| {
+            let mut c = cells(r).to_vec();
+            if sheared {
+                for x in [r.homogeneous, r.inhomogeneous] {
+                    c.push(if x.is_nan() {
+                        "-".into()
+                    } else {
+                        format!("{x:.2}")
+                    });
+                }
+            }
+            c
+        })
+        .collect();
+    (header, body)
+}
 
 fn cells(r: &PointRow) -> [String; COLUMNS] {
     let f = |x: f64, p: usize| {
@@ -303,20 +341,21 @@ pub fn render(rows: &[PointRow], format: Format) -> String {
     match format {
         Format::Json => serde_json::to_string_pretty(rows).expect("rows serialise") + "\n",
         Format::Csv => {
+            let (header, body) = table(rows);
             let mut w = csv::Writer::from_writer(Vec::new());
-            w.write_record(HEADER).expect("write to memory");
-            for r in rows {
-                w.write_record(cells(r)).expect("write to memory");
+            w.write_record(&header).expect("write to memory");
+            for c in &body {
+                w.write_record(c).expect("write to memory");
             }
             String::from_utf8(w.into_inner().expect("write to memory")).expect("UTF-8")
         }
         Format::Table => {
-            let body: Vec<[String; COLUMNS]> = rows.iter().map(cells).collect();
-            let widths: Vec<usize> = (0..COLUMNS)
+            let (header, body) = table(rows);
+            let widths: Vec<usize> = (0..header.len())
                 .map(|i| {
                     body.iter()
                         .map(|c| c[i].len())
-                        .chain([HEADER[i].len()])
+                        .chain([header[i].len()])
                         .max()
                         .unwrap_or(0)
                 })
@@ -331,7 +370,7 @@ pub fn render(rows: &[PointRow], format: Format) -> String {
                     .to_string()
                     + "\n"
             };
-            let head: Vec<String> = HEADER.iter().map(|s| s.to_string()).collect();
+            let head: Vec<String> = header.iter().map(|s| s.to_string()).collect();
             let mut s = line(&head);
             for c in &body {
                 s += &line(c);
@@ -339,4 +378,9 @@ pub fn render(rows: &[PointRow], format: Format) -> String {
             s
         }
     }
+}
+
+/// `skip_serializing_if` for the fractions a row does not have.
+fn is_nan(x: &f64) -> bool {
+    x.is_nan()
 }

@@ -97,11 +97,16 @@ pub enum Class {
     /// Not a freely cooling gas (gravity or a thermal floor): the classes do not apply; the note
     /// says why.
     NotApplicable,
+    /// A sheared gas whose density stays uniform: the uniform shear flow.
+    Homogeneous,
+    /// A sheared gas that formed bands or clusters (density contrast of a profile at or above
+    /// `cluster_density`).
+    Inhomogeneous,
 }
 
 impl Class {
     /// Every class, in table order.
-    pub const ALL: [Class; 7] = [
+    pub const ALL: [Class; 9] = [
         Class::Kinetic,
         Class::Shearing,
         Class::Clustering,
@@ -109,6 +114,8 @@ impl Class {
         Class::Stalled,
         Class::Failed,
         Class::NotApplicable,
+        Class::Homogeneous,
+        Class::Inhomogeneous,
     ];
 
     /// The name used in files and tables.
@@ -121,6 +128,8 @@ impl Class {
             Class::Stalled => "stalled",
             Class::Failed => "failed",
             Class::NotApplicable => "not_applicable",
+            Class::Homogeneous => "homogeneous",
+            Class::Inhomogeneous => "inhomogeneous",
         }
     }
 }

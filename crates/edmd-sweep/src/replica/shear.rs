@@ -4,6 +4,8 @@
 
 use edmd_core::Engine;
 
+use crate::classify::{Class, Classification};
+
 /// Bins of a profile along a box side: about one per diameter, at most 32 (a profile is an
 /// average over the bins' grains; 32 bins keep N/32 of them in each).
 pub fn profile_bins(side: f64) -> usize {
@@ -115,5 +117,87 @@ impl ShearSeries {
         self.density_profile_x
             .push(count_x.iter().map(|k| k / slab(wx, sides[0])).collect());
         self.box_offset.push(sim.shear_offset());
+    }
+}
+
+/// The excess density contrast of one profile: the variance of n_b / n̄ over its B bins less the
+/// (B − 1)/N that N grains placed independently give (0 ± √(2/B)·B/N for a uniform gas; about 1 for
+/// a band holding most grains in a third of the box).
+fn contrast(profile: &[f64], n: usize) -> f64 {
+    let b = profile.len() as f64;
+    let mean = profile.iter().sum::<f64>() / b;
+    if mean <= 0.0 {
+        return f64::NAN;
+    }
+    let var = profile
+        .iter()
+        .map(|x| (x / mean - 1.0).powi(2))
+        .sum::<f64>()
+        / b;
+    var - (b - 1.0) / n as f64
+}
+
+/// Homogeneous or inhomogeneous shear flow, from the density profiles along y (bands parallel to
+/// the flow) and along x (clusters), each averaged over the last half of the samples: inhomogeneous
+/// when either excess contrast reaches `threshold` (the classifier's `cluster_density`: the same
+/// Poisson-corrected density variance, PHYSICS.md §7.2).
+pub(super) fn classify(s: &ShearSeries, n: usize, threshold: f64) -> Classification {
+    let late = |rows: &[Vec<f64>]| {
+        let from = rows.len() / 2;
+        let c: Vec<f64> = rows[from..].iter().map(|p| contrast(p, n)).collect();
+        c.iter().sum::<f64>() / c.len().max(1) as f64
+    };
+    let (cy, cx) = (late(&s.density_profile_y), late(&s.density_profile_x));
+    let class = if s.density_profile_y.is_empty() {
+        Class::Failed
+    } else if cy >= threshold || cx >= threshold {
+        Class::Inhomogeneous
+    } else {
+        Class::Homogeneous
+    };
+    Classification {
+        class,
+        shear_onset: f64::NAN,
+        cluster_onset: f64::NAN,
+        haff_deviation: Vec::new(),
+        note: format!(
+            "density contrast over the last half: {cy:.3} along y, {cx:.3} along x (threshold {threshold})"
+        ),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn series(profile: Vec<f64>) -> ShearSeries {
+        ShearSeries {
+            density_profile_y: vec![profile; 4],
+            density_profile_x: vec![vec![1.0; 8]; 4],
+            ..Default::default()
+        }
+    }
+
+    /// A flat profile and one of Poisson noise are homogeneous; a band of twice the density over a
+    /// third of the box is not.
+    #[test]
+    fn bands_are_inhomogeneous_and_noise_is_not() {
+        let flat = classify(&series(vec![1.0; 30]), 3000, 0.15);
+        assert_eq!(flat.class, Class::Homogeneous, "{}", flat.note);
+        // ±√(N/B) counts around N/B = 100: relative variance 1/100 = (B − 1)/N, excess 0.
+        let noisy: Vec<f64> = (0..30)
+            .map(|b| if b % 2 == 0 { 1.1 } else { 0.9 })
+            .collect();
+        let c = contrast(&noisy, 3000);
+        assert!((c - (0.01 - 29.0 / 3000.0)).abs() < 1e-12, "{c}");
+        assert_eq!(
+            classify(&series(noisy), 3000, 0.15).class,
+            Class::Homogeneous
+        );
+        let band: Vec<f64> = (0..30)
+            .map(|b| if (10..20).contains(&b) { 2.0 } else { 0.5 })
+            .collect();
+        let banded = classify(&series(band), 3000, 0.15);
+        assert_eq!(banded.class, Class::Inhomogeneous, "{}", banded.note);
     }
 }

@@ -390,6 +390,9 @@ fn drive<const D: usize>(
     };
     let radius = p.radii.clone().unwrap_or_else(|| vec![p.radius; r.n]);
     let classification = spec.classify.as_ref().map(|c| match status {
+        Status::Done if r.sheared() => {
+            super::shear::classify(&series.shear, r.n, c.thresholds.cluster_density)
+        }
         Status::Done if r.driven_or_stratified() => Classification {
             class: Class::NotApplicable,
             shear_onset: f64::NAN,
@@ -397,8 +400,6 @@ fn drive<const D: usize>(
             haff_deviation: Vec::new(),
             note: if r.gravity > 0.0 {
                 "gravity: a stratified column is not free cooling".into()
-            } else if r.sheared() {
-                "sheared: a driven flow is not free cooling".into()
             } else {
                 "driven by a thermal floor: not free cooling".into()
             },
