@@ -56,3 +56,17 @@ def test_index_files_are_compared(sweep, tmp_path, capsys):
 def test_a_missing_directory_is_one_line(tmp_path, capsys):
     assert compare_outputs.main(str(tmp_path / "nowhere"), str(tmp_path)) == 2
     assert "is not a sweep output directory" in capsys.readouterr().err
+
+
+def test_an_ignored_column_may_exist_on_one_side_only(sweep, tmp_path, capsys):
+    """`--ignore-attr NAME` skips an index column that one build writes and the other does not (a
+    new column of summary.csv and sweep.h5), and nothing else: another extra dataset still differs."""
+    b = tmp_path / "b"
+    shutil.copytree(sweep, b)
+    with h5py.File(b / "sweep.h5", "a") as f:
+        f["replicas"].create_dataset("new_column", data=[0.0] * len(f["replicas/index"]))
+    ignored = compare_outputs.RUN_ATTRIBUTES | {"new_column"}
+    assert compare_outputs.main(str(sweep), str(b), ignored) == 0
+    assert compare_outputs.main(str(b), str(sweep), ignored) == 0
+    assert _both_ways(sweep, b) == (1, 1)
+    assert "new_column only in B" in capsys.readouterr().out

@@ -402,18 +402,7 @@ fn write_file(file: &hdf5::File, spec: &Spec, r: &Replica, out: &Outcome) -> hdf
     if !out.snapshots.is_empty() {
         w.trajectory(&gas, "position", &out.snapshots, r.n, d, |s| &s.position)?;
         w.trajectory(&gas, "velocity", &out.snapshots, r.n, d, |s| &s.velocity)?;
-        if r.sheared() {
-            // The images above the box sit at x + offset, y + L_y (below: x − offset, y − L_y) and
-            // move with v_x ± a L_y (docs/output.md).
-            let g = bx.create_group("offset")?;
-            let step: Vec<i64> = out.snapshots.iter().map(|s| s.step).collect();
-            let time: Vec<f64> = out.snapshots.iter().map(|s| s.time).collect();
-            let value: Vec<f64> = out.snapshots.iter().map(|s| s.box_offset).collect();
-            w.series_1d(&g, "step", &step)?;
-            w.series_1d(&g, "time", &time)?;
-            w.series_1d(&g, "value", &value)?;
-            attr_f64(&g, "shear_rate", r.shear_rate)?;
-        }
+        scene::shear_offsets(&w, &bx, r, &out.snapshots)?;
         if r.rough() {
             // ω_z of disks, (N, 1); ω of spheres, (N, 3).
             let width = if d == 2 { 1 } else { 3 };

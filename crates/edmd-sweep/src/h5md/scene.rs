@@ -147,3 +147,25 @@ pub(super) fn shear_observables(
     }
     Ok(())
 }
+
+/// `particles/gas/box/offset` of a sheared replica: the images' offset at each snapshot. The images
+/// above the box sit at x + offset, y + L_y (below: x − offset, y − L_y) and move with v_x ± a L_y
+/// (docs/output.md).
+pub(super) fn shear_offsets(
+    w: &Writer,
+    bx: &Group,
+    r: &Replica,
+    snapshots: &[crate::replica::Snapshot],
+) -> hdf5::Result<()> {
+    if !r.sheared() {
+        return Ok(());
+    }
+    let g = bx.create_group("offset")?;
+    let step: Vec<i64> = snapshots.iter().map(|s| s.step).collect();
+    let time: Vec<f64> = snapshots.iter().map(|s| s.time).collect();
+    let value: Vec<f64> = snapshots.iter().map(|s| s.box_offset).collect();
+    w.series_1d(&g, "step", &step)?;
+    w.series_1d(&g, "time", &time)?;
+    w.series_1d(&g, "value", &value)?;
+    attr_f64(&g, "shear_rate", r.shear_rate)
+}
