@@ -13,8 +13,8 @@ from edmd_analysis import movie as movie_module
 from edmd_analysis.__main__ import main
 from PIL import Image
 
-# 5 x 4.4 inches at 80 dpi (speed colours with a colour bar).
-FRAME = (400, 352)
+# 640 pixels wide by default: 5 x 4.4 inches at 128 dpi (speed colours with a colour bar).
+FRAME = (640, 563)
 
 
 @pytest.fixture(scope="session")

@@ -19,6 +19,29 @@ def test_report_of_a_classified_sweep(classified_sweep, tmp_path):
     assert text.count("<tr>") == 1 + 2  # header and two grid points (eps 0.9 and 0.7)
 
 
+def test_every_figure_has_a_heading_and_a_caption_and_movies_are_watchable(classified_sweep, tmp_path):
+    """Each figure on the page has a heading that is not its file name and a caption; the movies
+    are at least 640 pixels wide and at most 3 MB."""
+    import re
+
+    from PIL import Image
+
+    page = report_module.report(classified_sweep, tmp_path / "rep")
+    text = page.read_text()
+    figures = re.findall(r"<figure><h3>(.*?)</h3><a href=\"(.*?)\">.*?<figcaption>(.*?)</figcaption>", text)
+    files = sorted(p.name for p in (tmp_path / "rep").iterdir() if p.suffix in (".png", ".gif"))
+    assert sorted(f for _, f, _ in figures) == files
+    for heading, name, caption in figures:
+        assert " " in heading and not heading.endswith((".png", ".gif")), (heading, name)
+        assert len(caption) > 20, (name, caption)
+    movies = [p for p in (tmp_path / "rep").glob("*.gif")]
+    assert movies
+    for m in movies:
+        with Image.open(m) as im:
+            assert im.size[0] >= 640, (m.name, im.size)
+        assert m.stat().st_size <= 3 * 2**20, (m.name, m.stat().st_size)
+
+
 def test_report_cli(sweep, partial_sweep, tmp_path, capsys):
     assert main(["report", str(sweep), "-o", str(tmp_path / "r")]) == 0
     assert "report:" in capsys.readouterr().out

@@ -35,7 +35,8 @@ def main(argv=None) -> int:
                         help="draw velocity arrows (default where the colour is not the speed)")
     arrows.add_argument("--no-arrows", dest="arrows", action="store_false")
     mov.add_argument("--max-frames", type=int, help="at most this many frames, evenly spread")
-    mov.add_argument("--dpi", type=int, default=80, help="pixels per inch of the 5-inch frame (default 80)")
+    mov.add_argument("--size", type=int, default=640, help="frame width in pixels (default 640)")
+    mov.add_argument("--dpi", type=int, help="pixels per inch of the 5-inch frame, instead of --size")
     args = parser.parse_args(argv)
     try:
         if args.command == "report":
@@ -45,12 +46,15 @@ def main(argv=None) -> int:
         else:
             if args.fps <= 0:
                 raise ValueError(f"--fps {args.fps:g}: must be positive")
-            if args.dpi <= 0:
+            if args.dpi is not None and args.dpi <= 0:
                 raise ValueError(f"--dpi {args.dpi}: must be a positive number of pixels per inch")
+            if args.size < 16:
+                raise ValueError(f"--size {args.size}: a frame needs at least 16 pixels")
             if args.max_frames is not None and args.max_frames < 2:
                 raise ValueError(f"--max-frames {args.max_frames}: a movie needs at least 2")
             for path in movie(args.out, args.replica, args.output, fps=args.fps, colour=args.colour,
-                              arrows=args.arrows, dpi=args.dpi, max_frames=args.max_frames):
+                              arrows=args.arrows, dpi=args.dpi, max_frames=args.max_frames,
+                              size=args.size):
                 print(f"movie: {path}")
     except (ValueError, KeyError) as e:
         print(f"error: {e}", file=sys.stderr)

@@ -170,10 +170,21 @@ def _colour_bar(fig, ax, colour):
     fig.colorbar(mappable, ax=ax, shrink=0.8, label=label)
 
 
+# Frame width in inches; the pixels are this times the dpi.
+FRAME_INCHES = 5.0
+# Default frame width in pixels: a laptop screen's half; a quick sweep's GIF stays near 2 MB
+# (grains drawn as flat discs in a few colours compress well).
+FRAME_PIXELS = 640
+
+
 def movie(source, replica: Optional[int] = None, output=None, fps: float = 5.0,
-          colour: Optional[str] = None, arrows: Optional[bool] = None, dpi: int = 80,
-          max_frames: Optional[int] = None, mp4: Optional[bool] = None) -> List[Path]:
+          colour: Optional[str] = None, arrows: Optional[bool] = None, dpi: Optional[float] = None,
+          max_frames: Optional[int] = None, mp4: Optional[bool] = None,
+          size: int = FRAME_PIXELS) -> List[Path]:
     """Writes the movie of one replica; returns the files written.
+
+    Frames are ``size`` pixels wide (default 640), or ``dpi`` pixels per inch of the 5-inch frame
+    when it is given.
 
     ``source``: a sweep output directory (then ``replica`` is its index, by default ``pick_replica``)
     or a replica file. ``output``: the file to write (``.gif`` or ``.mp4``); by default
@@ -218,7 +229,8 @@ def movie(source, replica: Optional[int] = None, output=None, fps: float = 5.0,
             raise ValueError(f"-o {o}: MP4 needs ffmpeg on the PATH (apt-get install ffmpeg); "
                              "write a .gif instead")
 
-    fig, ax = plt.subplots(figsize=(5.0, 4.4 if colour in ("speed", "spin") else 5.0),
+    dpi = dpi if dpi is not None else size / FRAME_INCHES
+    fig, ax = plt.subplots(figsize=(FRAME_INCHES, 4.4 if colour in ("speed", "spin") else FRAME_INCHES),
                            layout="constrained")
     _colour_bar(fig, ax, colour)
 

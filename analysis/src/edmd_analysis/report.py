@@ -19,6 +19,7 @@ import html
 import json
 import multiprocessing
 import os
+import re
 import shutil
 import sys
 from pathlib import Path
@@ -135,8 +136,37 @@ LEGENDS = {
               "shows its sliding images faded around it, speeds relative to the flow.",
 }
 
+# The heading of each figure, by the start of its file name ({k}: the replica number in the name,
+# {c}: the class of a movie).
+TITLES = {
+    "cooling-loglog": "Cooling: temperature against collisions per particle",
+    "cooling-semilog": "Cooling on a linear tau axis",
+    "snapshots-": "Snapshots of replica {k}",
+    "velocity-histograms": "Velocity distributions in the two half-boxes",
+    "rotational-ratio": "Rotational against translational temperature",
+    "species-temperatures": "Temperatures of the species",
+    "density-profiles": "Density profiles of the columns",
+    "order-parameters": "Order parameters of the classifier",
+    "phase-diagram": "Phase diagram",
+    "shear-rheology": "Rheology of the steady shear flow",
+    "stream-profiles": "Stream velocity and density across the flow",
+    "movie-": "Movie of a {c} replica ({k})",
+}
+
 MOVIE_CLASSES = ("kinetic", "shearing", "clustering", "homogeneous", "inhomogeneous")
 SNAPSHOT_PANELS = 6
+
+
+def title(name: str) -> str:
+    """The heading of the figure file ``name`` (never the file name itself)."""
+    stem = name.rsplit(".", 1)[0]
+    number = re.search(r"-r(\d+)$", stem)
+    k = str(int(number.group(1))) if number else ""
+    c = stem.split("-")[1] if stem.startswith("movie-") and stem.count("-") >= 2 else "sample"
+    for prefix, text in TITLES.items():
+        if name.startswith(prefix):
+            return text.format(k=k, c="sample" if c == "replica" else c)
+    return "Figure"
 
 
 def legend(name: str) -> str:
@@ -170,7 +200,7 @@ def _movie_tasks(index: io.Index, dest: Path, max_frames: int = 40):
 
 
 def _movie_figure(path: Path, output: Path, max_frames: int):
-    movie.movie(path, output=output, max_frames=max_frames, dpi=64)
+    movie.movie(path, output=output, max_frames=max_frames)
     return [output.name]
 
 
@@ -346,7 +376,7 @@ def _html(index: io.Index, rows, images) -> str:
     for r in rows:
         table += "<tr>" + "".join(f"<td>{cell(r.get(h))}</td>" for h in head) + "</tr>\n"
     figures = "\n".join(
-        f'<figure><h3>{html.escape(name)}</h3><a href="{html.escape(name)}">'
+        f'<figure><h3>{html.escape(title(name))}</h3><a href="{html.escape(name)}">'
         f'<img src="{html.escape(name)}" alt="{html.escape(name)}"></a>'
         f'<figcaption>{html.escape(legend(name))}</figcaption></figure>'
         for name in images)
