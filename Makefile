@@ -13,7 +13,11 @@
 #   make stress    stress tests at full size (numerical stability; CI runs short versions)
 #   make validate  long equilibrium-accuracy runs (chi against Luding / Carnahan-Starling)
 #   make deps      system packages (libhdf5-dev, hdf5-tools) and the Python venv for analysis/
-#                  (MEDIA=1: also ffmpeg and headless Chromium for MP4 movies and the page test)
+#                  (MEDIA=1: also ffmpeg and headless Chromium for MP4 movies and the page test);
+#                  without Debian or root, HDF5 is built from its bundled sources (scripts/hdf5-link.sh)
+#   make install   the edmd binary into PREFIX/bin (default ~/.local/bin)
+#   make test-portable  the bundled-HDF5 build in a clean target directory with the system HDF5 hidden:
+#                  no libhdf5 in ldd, the quick sweep run and read with h5py (nightly, not make test)
 
 SHELL := /bin/bash
 CARGO ?= cargo
@@ -26,20 +30,39 @@ ifdef MEDIA
 APT_PACKAGES += ffmpeg chromium-headless-shell
 endif
 
-.PHONY: all deps deps-system venv venv-base release-bin build run figures demo cli check test test-rust test-bin test-python lint lint-rust lint-python bench bench-smoke bench-nightly bench-accuracy stress test-slurm run-rust-tests run-python-tests run-slurm-tests validate clean
+# How HDF5 is linked (scripts/hdf5-link.sh): the system's, or built from the bundled sources and
+# linked statically (then every cargo build that reaches the HDF5 binding takes the feature, and a
+# cmake from the venv when none is on the PATH).
+HDF5_LINK := $(shell scripts/hdf5-link.sh)
+HDF5_FEATURES := $(if $(filter bundled,$(HDF5_LINK)),--features edmd-cli/bundled-hdf5)
+ifeq ($(HDF5_LINK),bundled)
+export PATH := $(PATH):$(CURDIR)/$(VENV)/bin
+endif
+PREFIX ?= $(HOME)/.local
+
+.PHONY: install test-portable all deps deps-system venv venv-base release-bin build run figures demo cli check test test-rust test-bin test-python lint lint-rust lint-python bench bench-smoke bench-nightly bench-accuracy stress test-slurm run-rust-tests run-python-tests run-slurm-tests validate clean
 
 all: build
 
 deps: deps-system venv
 
-# System packages: Debian's, installed with apt-get when missing.
+# System packages: Debian's, installed with apt-get when missing (as root, or through sudo). Without
+# Debian or root, nothing is installed: HDF5 is then the system's if pkg-config or HDF5_DIR finds it,
+# else built from the bundled sources, for which cmake comes into the venv when none is on the PATH.
 deps-system:
-	@missing=""; for p in $(APT_PACKAGES); do dpkg -s $$p >/dev/null 2>&1 || missing="$$missing $$p"; done; \
-	if [ -n "$$missing" ]; then \
-		echo "installing:$$missing"; \
-		if [ "$$(id -u)" = 0 ]; then apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $$missing; \
-		elif command -v sudo >/dev/null; then sudo apt-get update -qq && sudo DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $$missing; \
-		else echo "error: missing Debian packages:$$missing (install them as root)"; exit 1; fi; \
+	@scripts/hdf5-link.sh --why
+	@if command -v dpkg >/dev/null && { [ "$$(id -u)" = 0 ] || sudo -n true 2>/dev/null; }; then \
+		missing=""; for p in $(APT_PACKAGES); do dpkg -s $$p >/dev/null 2>&1 || missing="$$missing $$p"; done; \
+		if [ -n "$$missing" ]; then \
+			echo "installing:$$missing"; \
+			if [ "$$(id -u)" = 0 ]; then apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $$missing; \
+			else sudo apt-get update -qq && sudo DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $$missing; fi; \
+		fi; \
+	fi
+	@if [ "$(HDF5_LINK)" = bundled ] && ! command -v cmake >/dev/null; then \
+		echo "cmake: none on the PATH, installing it into $(VENV) (pip)"; \
+		[ -x $(VENV)/bin/python ] || $(PYTHON) -m venv $(VENV); \
+		$(VENV)/bin/pip install -q cmake; \
 	fi
 
 # The Python venv of analysis/: with its test extras (venv), or only what the report draws with
@@ -52,7 +75,7 @@ venv venv-base:
 	fi
 
 build:
-	$(CARGO) build --release --workspace --all-targets
+	$(CARGO) build --release --workspace --all-targets $(HDF5_FEATURES)
 
 # The first build shows cargo's progress (two minutes or so on 2 cores, the venv made meanwhile);
 # later runs start at once.
@@ -70,17 +93,17 @@ demo:
 	$(CARGO) run --release -q -p edmd-core --example cooling
 
 release-bin:
-	$(CARGO_ALONE) build --release -p edmd-cli --bin edmd
+	$(CARGO_ALONE) build --release -p edmd-cli --bin edmd $(HDF5_FEATURES)
 
 # The release binary the Python tests drive.
 cli:
-	$(CARGO) build --release -q -p edmd-cli --bin edmd
+	$(CARGO) build --release -q -p edmd-cli --bin edmd $(HDF5_FEATURES)
 
 lint: lint-rust lint-python
 
 lint-rust:
 	$(CARGO) fmt --all -- --check
-	$(CARGO) clippy --workspace --all-targets --features edmd/bench -- -D warnings
+	$(CARGO) clippy --workspace --all-targets --features edmd/bench $(HDF5_FEATURES) -- -D warnings
 
 lint-python:
 	$(VENV)/bin/ruff check analysis scripts tests
@@ -88,16 +111,16 @@ lint-python:
 # Daily work: format check, lints and the Rust tests, without the Python, Slurm and benchmark parts.
 check:
 	$(CARGO) fmt --all -- --check
-	$(CARGO) clippy --workspace --all-targets --features edmd/bench -- -D warnings
-	$(CARGO) test $(RUST_TESTS)
+	$(CARGO) clippy --workspace --all-targets --features edmd/bench $(HDF5_FEATURES) -- -D warnings
+	$(CARGO) test $(RUST_TESTS) $(HDF5_FEATURES)
 
 # The Rust tests: unit, integration and doc tests (the examples are compiled by clippy, the criterion
 # benchmarks by `make bench-smoke`).
 RUST_TESTS := --workspace --lib --bins --tests
 
 test-rust:
-	$(CARGO) test $(RUST_TESTS)
-	$(CARGO) test --workspace --doc
+	$(CARGO) test $(RUST_TESTS) $(HDF5_FEATURES)
+	$(CARGO) test --workspace --doc $(HDF5_FEATURES)
 
 # The Python and Slurm tests drive the binary `cargo test` builds (test profile: opt-level 3 with debug
 # assertions, no LTO): after test-rust it is already there, so `make test` links the sweep code once
@@ -108,7 +131,7 @@ TEST_BIN := $(CURDIR)/target/debug/edmd
 CARGO_ALONE := env -u MAKEFLAGS -u MFLAGS $(CARGO)
 
 test-bin:
-	$(CARGO_ALONE) test -q $(RUST_TESTS) --no-run
+	$(CARGO_ALONE) test -q $(RUST_TESTS) $(HDF5_FEATURES) --no-run
 
 test-python: test-bin run-python-tests
 
@@ -129,8 +152,8 @@ run-slurm-tests:
 	PY=$(CURDIR)/$(VENV)/bin/python EDMD=$(TEST_BIN) bash tests/slurm/test-slurm.sh
 
 run-rust-tests:
-	$(CARGO_ALONE) test -q $(RUST_TESTS)
-	$(CARGO_ALONE) test -q --workspace --doc
+	$(CARGO_ALONE) test -q $(RUST_TESTS) $(HDF5_FEATURES)
+	$(CARGO_ALONE) test -q --workspace --doc $(HDF5_FEATURES)
 
 # Everything CI checks, scheduled for a 2-core machine (docs/benchmarks.md, "The lean build"): the
 # venv is made while the tests build; clippy runs after the build, whose build scripts and proc
@@ -178,3 +201,26 @@ validate:
 clean:
 	$(CARGO) clean
 	rm -rf $(VENV)
+
+# The binary into $(PREFIX)/bin (default ~/.local/bin; no root), linked as scripts/hdf5-link.sh says.
+install: deps-system
+	$(CARGO) install --locked --path crates/edmd-cli --root $(PREFIX) $(HDF5_FEATURES)
+	@echo "installed $(PREFIX)/bin/edmd; add $(PREFIX)/bin to PATH if it is not there"
+
+# The bundled-HDF5 build as a machine without a system HDF5 sees it: a clean target directory, no
+# pkg-config path, no HDF5_DIR; the binary must need no libhdf5 (ldd), run the quick sweep, and its
+# files must read with h5py. Run by the nightly workflow (minutes: HDF5 compiles from source).
+test-portable: venv
+	@command -v cmake >/dev/null || $(VENV)/bin/pip install -q cmake
+	@d=$$(mktemp -d) && echo "test-portable: building in $$d" && \
+	env -u HDF5_DIR PKG_CONFIG_LIBDIR=/nonexistent PKG_CONFIG_PATH= CARGO_TARGET_DIR=$$d/target PATH="$$PATH:$(CURDIR)/$(VENV)/bin" \
+		$(CARGO_ALONE) build --release -q -p edmd-cli --bin edmd --features edmd-cli/bundled-hdf5 && \
+	if ldd $$d/target/release/edmd | grep -q libhdf5; then \
+		echo "test-portable: FAILED, the binary needs a shared libhdf5:"; ldd $$d/target/release/edmd; exit 1; fi && \
+	echo "test-portable: ldd lists no libhdf5" && \
+	$$d/target/release/edmd run sweeps/quick.json -o $$d/quick -q && \
+	$(VENV)/bin/python -c "import sys, edmd_analysis as ea; i = ea.read_index(sys.argv[1]); \
+		reps = [ea.read_replica(i.replica_path(k)) for k in range(len(i))]; \
+		assert len(reps) == 30 and all(r.status == 'done' for r in reps); \
+		print('test-portable: PASSED,', len(reps), 'replica files read with h5py')" $$d/quick && \
+	rm -rf $$d
