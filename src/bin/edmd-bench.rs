@@ -48,6 +48,8 @@ struct Case {
     eps: f64,
     /// Lees–Edwards shear rate (0: the periodic box).
     shear_rate: f64,
+    /// The calendar look-ahead forced on or off (`None`: the engine's own choice).
+    look_ahead: Option<bool>,
 }
 
 struct Outcome {
@@ -77,6 +79,9 @@ fn measure<const D: usize, B: Boundary>(
     }
     let rule = ConstantRestitution::new(case.eps).map_err(|e| e.to_string())?;
     let mut sim = p.build::<B, _>(rule).map_err(|e| e.to_string())?;
+    if let Some(on) = case.look_ahead {
+        sim.set_look_ahead(on);
+    }
     let mut rates = Vec::new();
     let (mut collisions, mut total) = (0, 0.0);
     for _ in 0..repeats {
@@ -161,6 +166,10 @@ struct Args {
     /// Elastic equilibration before timing, in collisions per particle.
     #[arg(long, default_value_t = 5.0)]
     melt_tau: f64,
+    /// The large-system look-ahead (prefetch hints over the calendar's next buckets): `auto` (the
+    /// engine's choice by the state's size), `on` or `off`, to measure where it pays.
+    #[arg(long, default_value = "auto", value_parser = ["auto", "on", "off"])]
+    look_ahead: String,
     /// Print one JSON object instead of the text lines.
     #[arg(long)]
     json: bool,
@@ -205,6 +214,11 @@ fn real_main(args: Args) -> Result<(), String> {
     if !(melt_tau >= 0.0) {
         return Err(format!("invalid --melt-tau = {melt_tau}: must be >= 0"));
     }
+    let look_ahead = match args.look_ahead.as_str() {
+        "on" => Some(true),
+        "off" => Some(false),
+        _ => None,
+    };
     if args.matrix {
         let max_n = args.max_n;
         println!(
@@ -228,6 +242,7 @@ fn real_main(args: Args) -> Result<(), String> {
                         phi,
                         eps: 1.0,
                         shear_rate: args.shear_rate,
+                        look_ahead,
                     };
                     let o = run_case(&case, repeats, per, melt_tau)?;
                     println!(
@@ -248,6 +263,7 @@ fn real_main(args: Args) -> Result<(), String> {
         phi: args.phi,
         eps: args.eps,
         shear_rate: args.shear_rate,
+        look_ahead,
     };
     let o = run_case(&case, repeats, per, melt_tau)?;
     if args.json {
