@@ -7,6 +7,7 @@
 #   make check     daily work: format check, clippy and the Rust tests
 #   make bench     collisions/s and peak bytes per particle over N and phi (or one case: D= N= PHI= EPS=)
 #   make bench-nightly  the fixed benchmark matrix with history and regression flags
+#   make bench-instructions  cachegrind instructions per collision, edmd and the peers (history, 3 % flag)
 #   make bench-accuracy  run time against error (remedies, statistics, classification)
 #   make test-slurm  sweeps on a real single-node Slurm (also part of make test): a 4-task array sweep
 #                  equals a local run; a cancelled task is finished by rerunning the submit command
@@ -40,7 +41,7 @@ export PATH := $(PATH):$(CURDIR)/$(VENV)/bin
 endif
 PREFIX ?= $(HOME)/.local
 
-.PHONY: install test-portable all deps deps-system venv venv-base release-bin build run figures demo cli check test test-rust test-bin test-python lint lint-rust lint-python bench bench-smoke bench-nightly bench-accuracy stress test-slurm run-rust-tests run-python-tests run-slurm-tests validate clean
+.PHONY: install test-portable bench-instructions all deps deps-system venv venv-base release-bin build run figures demo cli check test test-rust test-bin test-python lint lint-rust lint-python bench bench-smoke bench-nightly bench-accuracy stress test-slurm run-rust-tests run-python-tests run-slurm-tests validate clean
 
 all: build
 
@@ -224,3 +225,10 @@ test-portable: venv
 		assert len(reps) == 30 and all(r.status == 'done' for r in reps); \
 		print('test-portable: PASSED,', len(reps), 'replica files read with h5py')" $$d/quick && \
 	rm -rf $$d
+
+# Instructions per collision by cachegrind on the six side-by-side cases, edmd-bench and (where
+# scripts/peers.py finds them) the peers; appends to benches/instructions.jsonl and flags a case
+# whose count grew by more than 3 % (scripts/instructions.py; about 15 minutes).
+bench-instructions:
+	$(CARGO) build --profile dist -q --bin edmd-bench
+	$(PYTHON) scripts/instructions.py
