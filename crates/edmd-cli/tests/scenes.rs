@@ -3,13 +3,7 @@
 
 mod common;
 
-use common::run_spec;
-
-fn read(path: &std::path::Path, dataset: &str) -> (Vec<usize>, Vec<f64>) {
-    let file = hdf5::File::open(path).unwrap();
-    let ds = file.dataset(dataset).unwrap();
-    (ds.shape(), ds.read_raw::<f64>().unwrap())
-}
+use common::{read, run_spec};
 
 /// Perfectly rough elastic grains (ε = β = 1) conserve the total kinetic energy, translational plus
 /// rotational: d T + d_rot T_rot = d T0 at every sample, to round-off (2D: d_rot = 1, ω_z stored as

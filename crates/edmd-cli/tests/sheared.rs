@@ -5,13 +5,7 @@ mod common;
 
 use std::time::{Duration, Instant};
 
-use common::{assert_same_output, edmd, listing, run, run_spec, write};
-
-fn read(path: &std::path::Path, dataset: &str) -> (Vec<usize>, Vec<f64>) {
-    let file = hdf5::File::open(path).unwrap();
-    let ds = file.dataset(dataset).unwrap();
-    (ds.shape(), ds.read_raw::<f64>().unwrap())
-}
+use common::{assert_same_output, edmd, listing, read, run, run_spec, write};
 
 fn attr(path: &std::path::Path, name: &str) -> f64 {
     let file = hdf5::File::open(path).unwrap();

@@ -37,6 +37,13 @@ pub fn small_spec(name: &str, eps: &[f64], n: usize, seeds: u32, tau: f64) -> St
     )
 }
 
+/// The shape and the values of a float dataset of an HDF5 file.
+pub fn read(path: &Path, dataset: &str) -> (Vec<usize>, Vec<f64>) {
+    let file = hdf5::File::open(path).unwrap();
+    let ds = file.dataset(dataset).unwrap();
+    (ds.shape(), ds.read_raw::<f64>().unwrap())
+}
+
 /// Writes `spec` into `dir/<name>.json`, runs it into `dir/<name>` (quiet) and returns that output
 /// directory; panics with edmd's stderr when the run fails.
 pub fn run_spec(dir: &Path, name: &str, spec: &str) -> PathBuf {
