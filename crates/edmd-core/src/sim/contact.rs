@@ -96,7 +96,6 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         if B::SHEARED {
             // The whole impulse on i (normal, tangential, rotated), against the separation.
             let dp = (vi - pi.vel) * mi;
-            self.counters.shear_virial += dr[0] * dp[1];
             for a in 0..D {
                 for b in 0..D {
                     self.counters.virial_tensor[a][b] += dr[a] * dp[b];

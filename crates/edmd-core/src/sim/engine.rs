@@ -52,8 +52,6 @@ pub trait Engine<const D: usize>: Send {
     fn has_walls(&self, a: usize) -> bool;
     /// The inelastic collapse detected so far.
     fn collapse(&self) -> Option<Collapse>;
-    /// The shear rate a of a sheared scene (0 elsewhere).
-    fn shear_rate(&self) -> f64;
     /// The displacement along x of the images above the box, in [0, L_x) (0 where not sheared).
     fn shear_offset(&self) -> f64;
     /// Peculiar velocities V = v − a (y − L_y/2) e_x of a sheared scene (the physical velocities
@@ -117,9 +115,6 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar + Send> Engine<D
     }
     fn collapse(&self) -> Option<Collapse> {
         Simulation::collapse(self)
-    }
-    fn shear_rate(&self) -> f64 {
-        Simulation::shear_rate(self)
     }
     fn shear_offset(&self) -> f64 {
         Simulation::shear_offset(self)

@@ -176,12 +176,10 @@ pub struct Counters {
     pub crossings: u64,
     /// Σ over pair collisions of `r_ij · Δp_i` (the collision virial), in the simulation's units.
     pub virial: f64,
-    /// Sheared scenes: Σ over pair collisions of `(r_ij)_x (Δp_i)_y`, the collisional part of the
-    /// shear stress times the volume and the time (0 elsewhere).
-    pub shear_virial: f64,
     /// Sheared scenes: Σ over pair collisions of `(r_ij)_a (Δp_i)_b` (the whole impulse: normal,
     /// tangential of rough grains, a remedy's rotation), row a, column b, the first D × D entries
-    /// used; the collisional pressure tensor times the volume and the time (0 elsewhere).
+    /// used; the collisional pressure tensor times the volume and the time (0 elsewhere). Entry
+    /// [0][1] is the collisional shear stress's.
     pub virial_tensor: [[f64; 3]; 3],
     /// Sheared scenes: the kinetic energy (translational and rotational) the collisions removed
     /// (0 elsewhere).

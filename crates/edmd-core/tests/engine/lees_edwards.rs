@@ -190,7 +190,7 @@ fn sheared_spheres_collide_as_brute_force_predicts() {
 fn energy_balance<const D: usize>(n: usize, phi: f64, rate: f64, tau: f64) {
     let mut sim = build::<D, _>(n, phi, rate, 7, Elastic);
     let e0 = peculiar(&sim).0;
-    let w0 = sim.counters().shear_virial;
+    let w0 = sim.counters().virial_tensor[0][1];
     let mut stress = KineticStress::new(&sim);
     let (mut shifts, mut steps, mut worst) = (0u64, 0u64, f64::NEG_INFINITY);
     while sim.tau() < tau {
@@ -204,7 +204,7 @@ fn energy_balance<const D: usize>(n: usize, phi: f64, rate: f64, tau: f64) {
         }
     }
     let e1 = peculiar(&sim).0;
-    let collisional = sim.counters().shear_virial - w0;
+    let collisional = sim.counters().virial_tensor[0][1] - w0;
     let predicted = -rate * (stress.integral + collisional);
     let dev = (e1 - e0) - predicted;
     worst = worst.max(deepest_overlap(&sim));
@@ -252,7 +252,7 @@ fn steady_state<const D: usize>(n: usize, phi: f64, rate: f64, eps: f64) {
         stress.advance(&sim);
         if half.is_none() && sim.tau() >= tau_half {
             let c = sim.counters();
-            half = Some((stress.integral, c.shear_virial, c.dissipated));
+            half = Some((stress.integral, c.virial_tensor[0][1], c.dissipated));
         }
         if sim.tau() >= next_sample {
             next_sample += 0.5;
@@ -266,14 +266,14 @@ fn steady_state<const D: usize>(n: usize, phi: f64, rate: f64, eps: f64) {
     }
     let c = *sim.counters();
     let e1 = peculiar(&sim).0;
-    let balance = -rate * (stress.integral + c.shear_virial) - c.dissipated;
+    let balance = -rate * (stress.integral + c.virial_tensor[0][1]) - c.dissipated;
     let dev = (e1 - e0) - balance;
     assert!(
         dev.abs() < 1e-9 * (c.dissipated + e1),
         "balance off by {dev:e}"
     );
     let (kh, wh, dh) = half.unwrap();
-    let heating = -rate * ((stress.integral - kh) + (c.shear_virial - wh));
+    let heating = -rate * ((stress.integral - kh) + (c.virial_tensor[0][1] - wh));
     let dissipation = c.dissipated - dh;
     // The stream profile: least squares of the slab means on the slab centres.
     let l = sim.box_len()[1];
