@@ -19,6 +19,7 @@ pub mod lock;
 pub mod merge;
 pub mod output;
 pub mod record;
+pub mod refine;
 pub mod replica;
 pub mod run;
 pub mod spec;

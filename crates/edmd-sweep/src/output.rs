@@ -7,6 +7,7 @@
 //! OUT/summary.csv        the same table as CSV
 //! OUT/summary.json       the same table as JSON
 //! OUT/phase.json         the phase table (one row per grid point, with theory's L/L⊥, L/L∥)
+//! OUT/boundary.json      a refined sweep's regime boundaries ([`crate::refine`])
 //! OUT/.lock              the advisory lock of runs and merges ([`crate::lock`])
 //! ```
 
@@ -78,6 +79,7 @@ fn has_foreign_files(root: &Path) -> Result<bool, SweepError> {
             "sweep.h5",
             "summary.",
             "phase.json",
+            "boundary.json",
             "report",
             ".lock",
         ]
@@ -134,8 +136,20 @@ impl OutDir {
             if spec_path.exists() {
                 let old = fs::read_to_string(&spec_path)
                     .map_err(|e| SweepError::io("cannot read", &spec_path, e))?;
-                let same = Spec::from_json(&old).map(|s| s == *spec).unwrap_or(false);
+                let old = Spec::from_json(&old).ok();
+                let same = old.as_ref().is_some_and(|s| s == spec);
                 if !same {
+                    let refined = old
+                        .as_ref()
+                        .is_some_and(|s| s.refinement.is_some() && s.base() == spec.base());
+                    if refined && !force {
+                        return Err(SweepError::Output(format!(
+                            "output {} holds a refinement of this sweep (edmd refine); resume it with `edmd refine {}`, or rerun it with `edmd run {}`",
+                            root.display(),
+                            root.display(),
+                            spec_path.display()
+                        )));
+                    }
                     if !force {
                         return Err(SweepError::Output(format!(
                             "output {} holds a different sweep (see its spec.json); choose another -o or pass --force to delete it",
@@ -198,6 +212,7 @@ impl OutDir {
             "summary.csv",
             "summary.json",
             "phase.json",
+            "boundary.json",
             "spec.json",
         ] {
             let p = self.root.join(name);
@@ -314,7 +329,18 @@ impl OutDir {
         let table = phase_table(spec, records);
         let phase = render(&table, Format::Json);
         write_atomic(&self.root.join("phase.json"), phase.as_bytes())?;
+        if let Some(r) = &spec.refinement {
+            let file = crate::refine::boundary_file(spec, records, &r.axes);
+            let json = serde_json::to_string_pretty(&file).expect("a boundary serialises") + "\n";
+            write_atomic(&self.root.join("boundary.json"), json.as_bytes())?;
+        }
         Ok(())
+    }
+
+    /// Replaces `OUT/spec.json` by `spec` (a refinement's next round); only while holding the lock
+    /// alone.
+    pub fn set_spec(&self, spec: &Spec) -> Result<(), SweepError> {
+        write_atomic(&self.spec_path(), spec.canonical_json().as_bytes())
     }
 }
 

@@ -271,7 +271,9 @@ fn write_file(file: &hdf5::File, spec: &Spec, r: &Replica, out: &Outcome) -> hdf
     // Parameters and results.
     let p = file.create_group("parameters")?;
     attr_i64(&p, "schema_version", SCHEMA_VERSION)?;
-    attr_str(&p, "spec", &spec.canonical_json())?;
+    // The spec without a refinement's points: a replica's file is the same whichever round ran it.
+    let base = spec.base();
+    attr_str(&p, "spec", &base.canonical_json())?;
     attr_str(&p, "spec_hash", &spec.hash())?;
     attr_str(&p, "sweep_name", &spec.name)?;
     attr_str(&p, "engine_version", env!("CARGO_PKG_VERSION"))?;
@@ -364,7 +366,7 @@ fn write_file(file: &hdf5::File, spec: &Spec, r: &Replica, out: &Outcome) -> hdf
     )?;
     attr_f64(&p, "per_cell", out.per_cell)?;
     let spec_group = p.create_group("spec")?;
-    let tree = serde_json::to_value(spec).expect("spec serialises");
+    let tree = serde_json::to_value(&base).expect("spec serialises");
     json_attrs(&spec_group, "", &tree)?;
 
     if out.status == Status::Failed {

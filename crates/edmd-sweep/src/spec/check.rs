@@ -49,6 +49,15 @@ impl Spec {
             };
             self.validate_grid(g, &at)?;
         }
+        let mut grids = grids;
+        if let Some(r) = &self.refinement {
+            for (k, round) in r.rounds.iter().enumerate() {
+                for (j, g) in round.iter().enumerate() {
+                    self.validate_grid(g, &format!("refinement.rounds[{k}][{j}]"))?;
+                }
+                grids.extend(round.iter().cloned());
+            }
+        }
         let total: f64 = grids.iter().map(grid_size).sum();
         if total > MAX_REPLICAS as f64 {
             let at = if grids.len() == 1 { "grid" } else { "grid[*]" };

@@ -255,12 +255,13 @@ pub fn stable_hash(bytes: &[u8]) -> u64 {
 }
 
 impl Spec {
-    /// The replicas in expansion order: grid by grid; within a grid dim, species, aspect, boundary,
+    /// The replicas in expansion order: grid by grid (the refinement's points last, in round order);
+    /// within a grid dim, species, aspect, boundary,
     /// remedy, n, density, eps, beta, gravity, shear_rate, wall_eps, floor_temperature, seed (seed
     /// fastest).
     pub fn replicas(&self) -> Vec<Replica> {
         let mut out = Vec::new();
-        for g in self.grid.values() {
+        for g in self.grids() {
             self.expand(&g, &mut out);
         }
         out

@@ -21,6 +21,7 @@ mod species;
 
 pub use crate::domain::{MAX_REPLICAS, MAX_SAMPLES};
 pub use boundary::BoundaryKind;
+
 pub use check::viscoelastic;
 pub use expand::{aspect_label, ball_volume, close_packing, stable_hash, Density, Replica, Shard};
 pub use one_or_many::OneOrMany;
@@ -365,6 +366,69 @@ pub struct Spec {
     /// Order parameters and classification at every sample (absent: neither is computed).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub classify: Option<ClassifySpec>,
+    /// The points `edmd refine` added, round by round (written by it into OUT/spec.json; absent in
+    /// a spec a person writes). Their replicas follow the grid's, in round order.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub refinement: Option<Refinement>,
+}
+
+/// A grid axis that `edmd refine` bisects: linear for ε, φ and β, logarithmic for N and the box.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum RefineAxis {
+    /// Restitution ε (linear midpoints).
+    Eps,
+    /// Packing fraction φ (linear).
+    Phi,
+    /// Box side L (geometric midpoints).
+    Box,
+    /// Particle number N (geometric, rounded to an integer).
+    N,
+    /// Tangential restitution β (linear).
+    Beta,
+}
+
+impl RefineAxis {
+    /// Every axis, in the order `--axes` lists them by default.
+    pub const ALL: [RefineAxis; 5] = [
+        RefineAxis::Eps,
+        RefineAxis::Phi,
+        RefineAxis::Box,
+        RefineAxis::N,
+        RefineAxis::Beta,
+    ];
+
+    /// The name of the axis: its field in a grid.
+    pub fn name(self) -> &'static str {
+        match self {
+            RefineAxis::Eps => "eps",
+            RefineAxis::Phi => "phi",
+            RefineAxis::Box => "box",
+            RefineAxis::N => "n",
+            RefineAxis::Beta => "beta",
+        }
+    }
+
+    /// Whether the axis is bisected in its logarithm (N and the box).
+    pub fn logarithmic(self) -> bool {
+        matches!(self, RefineAxis::Box | RefineAxis::N)
+    }
+
+    /// Parses an axis name.
+    pub fn parse(s: &str) -> Option<RefineAxis> {
+        RefineAxis::ALL.into_iter().find(|a| a.name() == s.trim())
+    }
+}
+
+/// The refinement of a sweep: the axes it bisects and the points of each round, each a grid of
+/// single values (with the grid's seeds).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Refinement {
+    /// The axes bisected.
+    pub axes: Vec<RefineAxis>,
+    /// The points added in each round.
+    pub rounds: Vec<Vec<Grid>>,
 }
 
 impl Spec {
@@ -409,9 +473,32 @@ impl Spec {
         serde_json::to_string_pretty(self).expect("a spec always serialises")
     }
 
-    /// Hash of the canonical form, stored in every output file.
+    /// Hash of the canonical form of the spec without its refinement ([`Spec::base`]), stored in
+    /// every output file: a refinement adds replicas without changing those before it.
     pub fn hash(&self) -> String {
-        format!("{:016x}", stable_hash(self.canonical_json().as_bytes()))
+        format!(
+            "{:016x}",
+            stable_hash(self.base().canonical_json().as_bytes())
+        )
+    }
+
+    /// The spec as its author wrote it: without the points `edmd refine` added. Replica files carry
+    /// this one, so that a replica's file does not depend on the round that ran it.
+    pub fn base(&self) -> Spec {
+        Spec {
+            refinement: None,
+            ..self.clone()
+        }
+    }
+
+    /// The grids whose replicas make the sweep: the spec's, then the refinement's points round by
+    /// round.
+    pub fn grids(&self) -> Vec<Grid> {
+        let mut out = self.grid.values();
+        if let Some(r) = &self.refinement {
+            out.extend(r.rounds.iter().flatten().cloned());
+        }
+        out
     }
 }
 

@@ -1,0 +1,587 @@
+//! Refinement of a phase diagram: where neighbouring grid points disagree on the regime, add the
+//! midpoint (docs/sweep-spec.md, "Refinement").
+//!
+//! A sweep's points are its grids' single-value combinations (a refinement's points are such grids
+//! already). Along each refined axis, the points that agree on every other parameter form a *line*;
+//! sorted along the axis, two consecutive points of a line are a *pair*. A pair is bisected when the
+//! majority classes of its ends differ, or when an end's seeds are split (no class holds two thirds
+//! of them). Midpoints are linear in ε, φ and β, geometric in N and the box side, and rounded to ten
+//! significant digits (N to an integer), so that a refined point equals the point of the finer grid
+//! `(m − 1)·2^r + 1` values per axis that bisects the same interval r times. Replica seeds depend on
+//! the point's parameters, not on its number: a refined point runs exactly the replicas the finer
+//! grid would run there.
+
+use std::collections::{HashMap, HashSet};
+
+use serde::Serialize;
+use serde_json::{Map, Value};
+
+use crate::classify::Class;
+use crate::record::Record;
+use crate::spec::{Grid, OneOrMany, RefineAxis, Refinement, Spec};
+use crate::SweepError;
+
+/// The grid fields that are axes (a list is several values); `species` and `aspect` are axes when
+/// they hold a list of lists.
+const AXIS_FIELDS: [&str; 12] = [
+    "dim",
+    "boundary",
+    "remedy",
+    "n",
+    "phi",
+    "box",
+    "eps",
+    "beta",
+    "gravity",
+    "shear_rate",
+    "wall_eps",
+    "floor_temperature",
+];
+const LIST_AXIS_FIELDS: [&str; 2] = ["species", "aspect"];
+
+/// One grid point: a grid of single values, its canonical JSON object and its seeds' classes.
+#[derive(Debug, Clone)]
+pub struct Point {
+    /// The point as a grid of single values.
+    pub grid: Grid,
+    /// Its JSON object (every field a single value).
+    pub json: Map<String, Value>,
+    /// The classes of its seeds that ran and were classified.
+    pub classes: Vec<String>,
+}
+
+impl Point {
+    /// The value of `axis` at this point (None when the grid does not give the axis: N of a φ × L
+    /// grid, the box of an N × φ grid).
+    pub fn coordinate(&self, axis: RefineAxis) -> Option<f64> {
+        self.json.get(axis.name()).and_then(Value::as_f64)
+    }
+
+    /// The line through this point along `axis`: every other field, as canonical JSON.
+    fn line_key(&self, axis: RefineAxis) -> String {
+        let mut m = self.json.clone();
+        m.remove(axis.name());
+        serde_json::to_string(&m).expect("a map serialises")
+    }
+
+    /// The fields fixed along the line through this point along `axis`.
+    pub fn line(&self, axis: RefineAxis) -> Map<String, Value> {
+        let mut m = self.json.clone();
+        m.remove(axis.name());
+        m.remove("seeds");
+        m
+    }
+
+    /// The majority class and its share of the classified seeds (None without any).
+    pub fn majority(&self) -> Option<(&str, f64)> {
+        let mut counts: Vec<(&str, usize)> = Vec::new();
+        for c in &self.classes {
+            match counts.iter_mut().find(|(k, _)| *k == c.as_str()) {
+                Some((_, n)) => *n += 1,
+                None => counts.push((c.as_str(), 1)),
+            }
+        }
+        // Most seeds first; a tie goes to the class first in table order.
+        counts.sort_by_key(|&(c, n)| (std::cmp::Reverse(n), class_rank(c)));
+        counts
+            .first()
+            .map(|&(c, n)| (c, n as f64 / self.classes.len() as f64))
+    }
+
+    /// Whether the seeds are split: no class holds two thirds of them.
+    fn split(&self) -> bool {
+        self.majority().is_some_and(|(_, share)| share < 2.0 / 3.0)
+    }
+}
+
+/// The position of a class name in the table order (unknown names last).
+fn class_rank(name: &str) -> usize {
+    Class::ALL
+        .iter()
+        .position(|c| c.name() == name)
+        .unwrap_or(Class::ALL.len())
+}
+
+/// Whether a record's class is a regime a refinement can bracket: the free-cooling classes, the
+/// sheared flow's, or a collapse; not stalled, failed, missing or not applicable.
+fn is_regime(class: &str) -> bool {
+    [
+        Class::Kinetic,
+        Class::Shearing,
+        Class::Clustering,
+        Class::Collapsed,
+        Class::Homogeneous,
+        Class::Inhomogeneous,
+    ]
+    .iter()
+    .any(|c| c.name() == class)
+}
+
+/// The single-value grids of a grid, in no particular order (the replicas keep the spec's order).
+fn point_grids(g: &Grid) -> Vec<Map<String, Value>> {
+    let Value::Object(base) = serde_json::to_value(g).expect("a grid serialises") else {
+        unreachable!("a grid is an object")
+    };
+    // Fields a grid leaves unset (n of a φ × L grid) are not part of its points.
+    let base: Map<String, Value> = base.into_iter().filter(|(_, v)| !v.is_null()).collect();
+    let mut points = vec![base.clone()];
+    for (field, value) in &base {
+        let is_axis = AXIS_FIELDS.contains(&field.as_str())
+            || (LIST_AXIS_FIELDS.contains(&field.as_str())
+                && value
+                    .as_array()
+                    .and_then(|a| a.first())
+                    .is_some_and(Value::is_array));
+        let Some(values) = value.as_array().filter(|_| is_axis) else {
+            continue;
+        };
+        points = points
+            .into_iter()
+            .flat_map(|p| {
+                values.iter().map(move |v| {
+                    let mut q = p.clone();
+                    q.insert(field.clone(), v.clone());
+                    q
+                })
+            })
+            .collect();
+    }
+    points
+}
+
+fn to_grid(json: &Map<String, Value>) -> Grid {
+    serde_json::from_value(Value::Object(json.clone())).expect("a point of a valid grid parses")
+}
+
+/// Every point of a sweep (the grids', then the refinement's, each once) with its seeds' classes.
+pub fn points(spec: &Spec, records: &[Record]) -> Vec<Point> {
+    let mut classes: HashMap<String, Vec<String>> = HashMap::new();
+    for (r, rec) in spec.replicas().iter().zip(records) {
+        let entry = classes.entry(r.point_key()).or_default();
+        if rec.status.has_data() && is_regime(&rec.class) {
+            entry.push(rec.class.clone());
+        }
+    }
+    let mut seen = HashSet::new();
+    let mut out = Vec::new();
+    for g in spec.grids() {
+        for json in point_grids(&g) {
+            let key = serde_json::to_string(&json).expect("a map serialises");
+            if !seen.insert(key) {
+                continue;
+            }
+            let grid = to_grid(&json);
+            let one = Spec {
+                grid: OneOrMany::One(grid.clone()),
+                refinement: None,
+                ..spec.clone()
+            };
+            let point_key = one.replicas().first().map(|r| r.point_key());
+            let classes = point_key
+                .and_then(|k| classes.get(&k).cloned())
+                .unwrap_or_default();
+            out.push(Point {
+                grid,
+                json,
+                classes,
+            });
+        }
+    }
+    out
+}
+
+/// `x` rounded to ten significant digits.
+pub fn tidy(x: f64) -> f64 {
+    format!("{x:.9e}")
+        .parse()
+        .expect("a formatted float parses")
+}
+
+/// The midpoint of `a` and `b` along `axis` (None when it equals an end: the axis is resolved).
+pub fn midpoint(axis: RefineAxis, a: f64, b: f64) -> Option<f64> {
+    let m = match axis {
+        RefineAxis::N => (a * b).sqrt().round(),
+        RefineAxis::Box => tidy((a * b).sqrt()),
+        _ => tidy(0.5 * (a + b)),
+    };
+    (m != a && m != b).then_some(m)
+}
+
+/// The lines along `axis`: points sharing every other field, each sorted along the axis, in the
+/// order of their first point.
+fn lines(points: &[Point], axis: RefineAxis) -> Vec<Vec<&Point>> {
+    let mut keys: Vec<String> = Vec::new();
+    let mut out: Vec<Vec<&Point>> = Vec::new();
+    for p in points.iter().filter(|p| p.coordinate(axis).is_some()) {
+        let key = p.line_key(axis);
+        match keys.iter().position(|k| *k == key) {
+            Some(i) => out[i].push(p),
+            None => {
+                keys.push(key);
+                out.push(vec![p]);
+            }
+        }
+    }
+    for line in &mut out {
+        line.sort_by(|a, b| {
+            a.coordinate(axis)
+                .unwrap()
+                .total_cmp(&b.coordinate(axis).unwrap())
+        });
+    }
+    out
+}
+
+/// The points of the next round: the midpoints of the pairs to bisect along each axis, in axis,
+/// line and axis order, at most `budget` replicas' worth (each point costs its seeds).
+pub fn plan(points: &[Point], axes: &[RefineAxis], budget: usize) -> Vec<Grid> {
+    let mut existing: HashSet<String> = points
+        .iter()
+        .map(|p| serde_json::to_string(&p.json).expect("a map serialises"))
+        .collect();
+    let mut out = Vec::new();
+    let mut spent = 0;
+    for &axis in axes {
+        for line in lines(points, axis) {
+            for pair in line.windows(2) {
+                let (p, q) = (pair[0], pair[1]);
+                let (Some(mp), Some(mq)) = (p.majority(), q.majority()) else {
+                    continue;
+                };
+                if mp.0 == mq.0 && !p.split() && !q.split() {
+                    continue;
+                }
+                let (a, b) = (p.coordinate(axis).unwrap(), q.coordinate(axis).unwrap());
+                let Some(m) = midpoint(axis, a, b) else {
+                    continue;
+                };
+                let mut json = p.json.clone();
+                let value = if axis == RefineAxis::N {
+                    Value::from(m as u64)
+                } else {
+                    Value::from(m)
+                };
+                json.insert(axis.name().into(), value);
+                let key = serde_json::to_string(&json).expect("a map serialises");
+                if existing.contains(&key) {
+                    continue;
+                }
+                let grid = to_grid(&json);
+                let cost = grid.seeds as usize;
+                if spent + cost > budget {
+                    return out;
+                }
+                spent += cost;
+                existing.insert(key);
+                out.push(grid);
+            }
+        }
+    }
+    out
+}
+
+/// A change of regime along one line of the grid, bracketed by two neighbouring points.
+#[derive(Debug, Clone, Serialize)]
+pub struct Crossing {
+    /// The axis along which the label changes.
+    pub axis: RefineAxis,
+    /// The two regimes, in table order.
+    pub regimes: [String; 2],
+    /// The majority class at the lower end.
+    pub below: String,
+    /// The majority class at the upper end.
+    pub above: String,
+    /// The lower end of the bracketing pair.
+    pub lower: f64,
+    /// The upper end.
+    pub upper: f64,
+    /// The estimate: the pair's midpoint (geometric for N and the box).
+    pub at: f64,
+    /// Its uncertainty: half the pair's width, (upper − lower)/2.
+    pub half_width: f64,
+    /// The fields fixed along the line (every grid field but the axis and the seeds).
+    pub line: Map<String, Value>,
+}
+
+/// The boundary: every change of majority class between neighbouring points along each axis.
+pub fn boundary(points: &[Point], axes: &[RefineAxis]) -> Vec<Crossing> {
+    let mut out = Vec::new();
+    for &axis in axes {
+        for line in lines(points, axis) {
+            let labelled: Vec<(&Point, &str)> = line
+                .iter()
+                .filter_map(|p| p.majority().map(|(c, _)| (*p, c)))
+                .collect();
+            for pair in labelled.windows(2) {
+                let ((p, cp), (q, cq)) = (pair[0], pair[1]);
+                if cp == cq {
+                    continue;
+                }
+                let (lower, upper) = (p.coordinate(axis).unwrap(), q.coordinate(axis).unwrap());
+                let at = if axis.logarithmic() {
+                    (lower * upper).sqrt()
+                } else {
+                    0.5 * (lower + upper)
+                };
+                let mut regimes = [cp.to_string(), cq.to_string()];
+                regimes.sort_by_key(|c| class_rank(c));
+                out.push(Crossing {
+                    axis,
+                    regimes,
+                    below: cp.into(),
+                    above: cq.into(),
+                    lower,
+                    upper,
+                    at,
+                    half_width: 0.5 * (upper - lower),
+                    line: p.line(axis),
+                });
+            }
+        }
+    }
+    out
+}
+
+/// `OUT/boundary.json`: what a refinement found and what it cost.
+#[derive(Debug, Clone, Serialize)]
+pub struct BoundaryFile {
+    /// The sweep's name.
+    pub sweep: String,
+    /// The axes refined.
+    pub axes: Vec<RefineAxis>,
+    /// Rounds run.
+    pub rounds: usize,
+    /// Replicas of the sweep (grid and refinement).
+    pub replicas: usize,
+    /// Of them, added by the refinement.
+    pub refinement_replicas: usize,
+    /// Replicas of the full grid of the same resolution (each refined axis bisected `rounds`
+    /// times everywhere).
+    pub full_grid_replicas: usize,
+    /// The regime changes found.
+    pub crossings: Vec<Crossing>,
+}
+
+/// The boundary file of a refined sweep whose replicas have `records`.
+pub fn boundary_file(spec: &Spec, records: &[Record], axes: &[RefineAxis]) -> BoundaryFile {
+    let pts = points(spec, records);
+    BoundaryFile {
+        sweep: spec.name.clone(),
+        axes: axes.to_vec(),
+        rounds: rounds(spec),
+        replicas: records.len(),
+        refinement_replicas: refinement_replicas(spec),
+        full_grid_replicas: full_grid_replicas(spec, axes, rounds(spec)),
+        crossings: boundary(&pts, axes),
+    }
+}
+
+/// Replicas of a full grid as fine as `rounds` bisections of each refined axis of the spec's grids.
+pub fn full_grid_replicas(spec: &Spec, axes: &[RefineAxis], rounds: usize) -> usize {
+    spec.grid
+        .values()
+        .iter()
+        .map(|g| {
+            let base = Spec {
+                grid: OneOrMany::One(g.clone()),
+                refinement: None,
+                ..spec.clone()
+            }
+            .replicas()
+            .len() as f64;
+            let Value::Object(json) = serde_json::to_value(g).expect("a grid serialises") else {
+                unreachable!("a grid is an object")
+            };
+            let factor: f64 = axes
+                .iter()
+                .filter_map(|a| json.get(a.name()).and_then(Value::as_array))
+                .map(|v| {
+                    let m = v.len() as f64;
+                    ((m - 1.0) * 2f64.powi(rounds as i32) + 1.0) / m
+                })
+                .product();
+            (base * factor).round() as usize
+        })
+        .sum()
+}
+
+/// The refinement's axes: those asked for, or else every refinable axis that varies in a grid of
+/// the spec. Refused: an axis no grid varies, or other axes than an earlier round used.
+pub fn choose_axes(
+    spec: &Spec,
+    asked: Option<&[RefineAxis]>,
+) -> Result<Vec<RefineAxis>, SweepError> {
+    let varies = |a: RefineAxis| {
+        spec.grid.values().iter().any(|g| {
+            let json = serde_json::to_value(g).expect("a grid serialises");
+            json.get(a.name())
+                .and_then(Value::as_array)
+                .is_some_and(|v| v.len() > 1)
+        })
+    };
+    let axes: Vec<RefineAxis> = match asked {
+        Some(a) => a.to_vec(),
+        None => match &spec.refinement {
+            Some(r) => r.axes.clone(),
+            None => RefineAxis::ALL.into_iter().filter(|&a| varies(a)).collect(),
+        },
+    };
+    if axes.is_empty() {
+        return Err(SweepError::Usage(
+            "refine: no grid of the spec varies eps, phi, box, n or beta; nothing to refine".into(),
+        ));
+    }
+    for &a in &axes {
+        if !varies(a) {
+            return Err(SweepError::Usage(format!(
+                "--axes {}: no grid of the spec has two or more values of {} to bisect",
+                a.name(),
+                a.name()
+            )));
+        }
+    }
+    if let Some(r) = &spec.refinement {
+        if !r.rounds.is_empty() && r.axes != axes {
+            let names = |v: &[RefineAxis]| v.iter().map(|a| a.name()).collect::<Vec<_>>().join(",");
+            return Err(SweepError::Usage(format!(
+                "--axes {}: this sweep was refined along {} (see its spec.json); refine it along the same axes, or refine a copy of the original spec",
+                names(&axes),
+                names(&r.axes)
+            )));
+        }
+    }
+    Ok(axes)
+}
+
+/// The spec with one more round of points.
+pub fn with_round(spec: &Spec, axes: &[RefineAxis], round: Vec<Grid>) -> Spec {
+    let mut out = spec.clone();
+    let r = out.refinement.get_or_insert_with(|| Refinement {
+        axes: axes.to_vec(),
+        rounds: Vec::new(),
+    });
+    r.axes = axes.to_vec();
+    r.rounds.push(round);
+    out
+}
+
+/// Replicas the refinement has added so far.
+pub fn refinement_replicas(spec: &Spec) -> usize {
+    spec.refinement.as_ref().map_or(0, |r| {
+        r.rounds.iter().flatten().map(|g| g.seeds as usize).sum()
+    })
+}
+
+/// Rounds the refinement has run.
+pub fn rounds(spec: &Spec) -> usize {
+    spec.refinement.as_ref().map_or(0, |r| r.rounds.len())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::record::Record;
+
+    fn spec(grid: &str) -> Spec {
+        Spec::from_json(&format!(
+            r#"{{"name": "t", "grid": {grid}, "stop": {{"tau_max": 10}}, "classify": {{}}}}"#
+        ))
+        .unwrap()
+    }
+
+    /// Records whose classes follow `label(eps, box)`.
+    fn records(spec: &Spec, label: impl Fn(f64, f64) -> &'static str) -> Vec<Record> {
+        spec.replicas()
+            .iter()
+            .map(|r| {
+                let mut rec = Record::missing(r);
+                rec.status = crate::record::Status::Done;
+                rec.class = label(r.eps, r.side()).into();
+                rec
+            })
+            .collect()
+    }
+
+    #[test]
+    fn midpoints_are_linear_or_geometric_and_tidy() {
+        assert_eq!(midpoint(RefineAxis::Eps, 0.8, 0.9), Some(0.85));
+        assert_eq!(midpoint(RefineAxis::Box, 20.0, 80.0), Some(40.0));
+        assert_eq!(midpoint(RefineAxis::N, 100.0, 400.0), Some(200.0));
+        assert_eq!(midpoint(RefineAxis::N, 100.0, 101.0), None);
+        // Two bisections of [0.6, 1] land on the grid of spacing 0.1, exactly.
+        let m = midpoint(RefineAxis::Eps, 0.6, 1.0).unwrap();
+        assert_eq!(midpoint(RefineAxis::Eps, 0.6, m), Some(0.7));
+    }
+
+    #[test]
+    fn only_pairs_that_disagree_are_bisected() {
+        let s = spec(r#"{"eps": [0.6, 0.8, 1.0], "phi": 0.25, "box": [20, 40, 80]}"#);
+        // Kinetic at eps > 0.9, else clustering for L > 30, shearing below.
+        let label = |e: f64, l: f64| {
+            if e > 0.9 {
+                "kinetic"
+            } else if l > 30.0 {
+                "clustering"
+            } else {
+                "shearing"
+            }
+        };
+        let pts = points(&s, &records(&s, label));
+        assert_eq!(pts.len(), 9);
+        let round = plan(&pts, &[RefineAxis::Eps, RefineAxis::Box], 100);
+        let got: Vec<(f64, f64)> = round
+            .iter()
+            .map(|g| (g.eps.values()[0], g.box_len.as_ref().unwrap().values()[0]))
+            .collect();
+        // Along eps: (0.8, 1.0) differs on every box line; along box: (20, 40) at eps 0.6 and 0.8.
+        assert_eq!(
+            got,
+            vec![
+                (0.9, 20.0),
+                (0.9, 40.0),
+                (0.9, 80.0),
+                (0.6, 28.28427125),
+                (0.8, 28.28427125)
+            ]
+        );
+        // The budget stops the round in order.
+        assert_eq!(plan(&pts, &[RefineAxis::Eps, RefineAxis::Box], 2).len(), 2);
+        let b = boundary(&pts, &[RefineAxis::Eps]);
+        assert_eq!(b.len(), 3);
+        assert_eq!(
+            b[0].regimes,
+            ["kinetic".to_string(), "shearing".to_string()]
+        );
+        assert_eq!(
+            (b[0].lower, b[0].upper, b[0].at, b[0].half_width),
+            (0.8, 1.0, 0.9, 0.09999999999999998)
+        );
+        assert_eq!(b[0].below, "shearing");
+    }
+
+    #[test]
+    fn a_round_extends_the_spec_and_keeps_the_hash() {
+        let s = spec(r#"{"eps": [0.6, 1.0], "n": 100, "phi": 0.1}"#);
+        let pts = points(
+            &s,
+            &records(&s, |e, _| if e > 0.9 { "kinetic" } else { "clustering" }),
+        );
+        let round = plan(&pts, &[RefineAxis::Eps], 10);
+        let t = with_round(&s, &[RefineAxis::Eps], round);
+        assert_eq!(t.hash(), s.hash());
+        assert_eq!(t.replicas().len(), 3);
+        assert_eq!(t.replicas()[2].eps, 0.8);
+        assert_eq!(t.replicas()[2].seed, s.replicas()[0].seed);
+        // The spec with its refinement reads back as it was written.
+        assert_eq!(Spec::from_json(&t.canonical_json()).unwrap(), t);
+        assert_eq!(full_grid_replicas(&s, &[RefineAxis::Eps], 2), 5);
+    }
+
+    #[test]
+    fn axes_must_vary() {
+        let s = spec(r#"{"eps": [0.6, 1.0], "n": 100, "phi": 0.1}"#);
+        assert_eq!(choose_axes(&s, None).unwrap(), vec![RefineAxis::Eps]);
+        let e = choose_axes(&s, Some(&[RefineAxis::Box])).unwrap_err();
+        assert!(e.to_string().contains("--axes box"), "{e}");
+    }
+}
