@@ -1,7 +1,7 @@
 """Analysis of edmd sweeps: read the H5MD replica files and the sweep index into numpy arrays (and
 pandas DataFrames when pandas is installed), draw figures, reports and movies."""
 
-from .frames import read_phase_table
+from .frames import read_boundary_frame, read_phase_table
 from .io import (
     SCHEMA_VERSION,
     CorruptFileError,
@@ -9,6 +9,7 @@ from .io import (
     Replica,
     SchemaError,
     Snapshots,
+    read_boundary,
     read_index,
     read_observable,
     read_replica,
@@ -23,6 +24,8 @@ __all__ = [
     "Replica",
     "SchemaError",
     "Snapshots",
+    "read_boundary",
+    "read_boundary_frame",
     "read_index",
     "read_observable",
     "read_phase_table",

@@ -103,6 +103,36 @@ def read_phase_table(out):
     return pd.DataFrame(data)
 
 
+def read_boundary_frame(out):
+    """OUT/boundary.json (``edmd refine``) as a DataFrame, one row per regime change: ``axis``,
+    ``regime_a`` and ``regime_b`` (table order), ``below`` and ``above`` (the classes at the lower and
+    upper end), ``lower``, ``upper``, ``at``, ``half_width``, then the fields fixed along the line
+    (``dim``, ``boundary``, ``eps``, ``phi``, ``box``, ``n``, ... where the grid gives them; NaN where
+    not)."""
+    from .io import read_boundary
+
+    pd = pandas()
+    crossings = read_boundary(out)["crossings"]
+    fixed = sorted({k for c in crossings for k in c["line"]})
+    data = {
+        "axis": pd.Categorical([c["axis"] for c in crossings]),
+        "regime_a": pd.Categorical([c["regimes"][0] for c in crossings]),
+        "regime_b": pd.Categorical([c["regimes"][1] for c in crossings]),
+        "below": pd.Categorical([c["below"] for c in crossings]),
+        "above": pd.Categorical([c["above"] for c in crossings]),
+    }
+    for k in ("lower", "upper", "at", "half_width"):
+        data[k] = np.array([float(c[k]) for c in crossings], dtype=float)
+    for k in fixed:
+        values = [c["line"].get(k) for c in crossings]
+        if all(isinstance(v, (int, float)) or v is None for v in values):
+            data[k] = np.array([np.nan if v is None else float(v) for v in values], dtype=float)
+        else:
+            data[k] = pd.array([json.dumps(v, sort_keys=True) if isinstance(v, (dict, list)) else
+                                ("" if v is None else str(v)) for v in values], dtype="string")
+    return pd.DataFrame(data)
+
+
 def observables_frame(rep):
     """A replica's scalar observables, one row per sample (step and time first)."""
     pd = pandas()

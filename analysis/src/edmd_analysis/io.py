@@ -118,6 +118,21 @@ def read_index(out) -> Index:
     return index
 
 
+def read_boundary(out) -> dict:
+    """OUT/boundary.json of a refined sweep (``edmd refine``; docs/output.md): the axes, rounds and
+    replica counts, and ``crossings``, each regime change along a line of the grid with its
+    bracketing pair (``lower``, ``upper``), estimate ``at`` and ``half_width``."""
+    path = Path(out)
+    if path.is_dir():
+        path = path / "boundary.json"
+    if not path.exists():
+        raise FileNotFoundError(f"{path}: no boundary (written by `edmd refine {path.parent}`)")
+    data = json.loads(path.read_text())
+    if not isinstance(data, dict) or "crossings" not in data:
+        raise ValueError(f"{path}: not a boundary file (an object with 'crossings' expected)")
+    return data
+
+
 # The statuses of replicas that have a file (edmd's `Status::has_file`).
 WITH_FILE = ("done", "collapsed", "stalled", "failed")
 

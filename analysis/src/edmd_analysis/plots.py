@@ -281,6 +281,96 @@ def phase_diagram(ax, rows: Sequence[dict], x: str = "l_over_l_perp", size: floa
     return ax
 
 
+# A refinement axis (boundary.json) and the phase table's column of the same quantity.
+REFINE_COLUMNS = {"eps": "eps", "box": "box_side", "phi": "phi", "n": "n", "beta": "beta"}
+
+
+def boundary_axes(rows: Sequence[dict], boundary: dict):
+    """The axes (x, y) of a refined phase diagram: eps upwards when it is refined or varies, the
+    other refined axis across (else the box, N or phi, whichever varies)."""
+    axes = list(boundary["axes"])
+    y = "eps" if "eps" in axes or len({r["eps"] for r in rows}) > 1 else axes[0]
+    x = next((a for a in axes if a != y), None)
+    if x is None:
+        x = next((a for a in ("box", "n", "phi") if len({r[REFINE_COLUMNS[a]] for r in rows}) > 1), "box")
+    return x, y
+
+
+def boundary_diagram(ax, rows: Sequence[dict], boundary: dict, refined=(), size: float = 110.0):
+    """A refined phase diagram (``edmd refine``): every point of the phase table as a pie of its
+    classes (the points the refinement added smaller; ``refined`` holds their (x, y) values), each
+    regime change of ``boundary`` (OUT/boundary.json) as its estimate with the bracketing pair as
+    error bar, and, when the plane is (box, eps) of a periodic box, the linear theory's lines
+    L = L_perp and L = L_par (the classifier's theory, PHYSICS.md 3). The title counts the replicas
+    against the full grid of the same resolution."""
+    x, y = boundary_axes(rows, boundary)
+    xc, yc = REFINE_COLUMNS[x], REFINE_COLUMNS[y]
+    classes = ["kinetic", "shearing", "clustering"]
+    if any(r.get("homogeneous") is not None for r in rows):
+        classes = ["homogeneous", "inhomogeneous"]
+    refined = {(float(a), float(b)) for a, b in refined}
+    for row in rows:
+        fractions = np.array([row.get(c) or 0.0 for c in classes])
+        if not np.isfinite(fractions).all() or fractions.sum() == 0:
+            continue
+        s = size * (0.4 if (float(row[xc]), float(row[yc])) in refined else 1.0)
+        start = 0.0
+        for c, f in zip(classes, fractions / fractions.sum()):
+            if f <= 0:
+                continue
+            theta = np.linspace(2 * np.pi * start, 2 * np.pi * (start + f), 16)
+            verts = np.column_stack([np.r_[0, np.cos(theta)], np.r_[0, np.sin(theta)]])
+            ax.scatter([row[xc]], [row[yc]], marker=verts, s=s, c=CLASS_COLOURS[c], linewidths=0)
+            start += f
+    pairs = sorted({tuple(c["regimes"]) for c in boundary["crossings"]})
+    markers = "oDs^v"
+    for k, pair in enumerate(pairs):
+        label = f"boundary {pair[0]} | {pair[1]}"
+        for c in boundary["crossings"]:
+            if tuple(c["regimes"]) != pair:
+                continue
+            if c["axis"] == y and x in c["line"]:
+                px, py = float(c["line"][x]), c["at"]
+                err = dict(yerr=[[c["at"] - c["lower"]], [c["upper"] - c["at"]]])
+            elif c["axis"] == x and y in c["line"]:
+                px, py = c["at"], float(c["line"][y])
+                err = dict(xerr=[[c["at"] - c["lower"]], [c["upper"] - c["at"]]])
+            else:
+                continue
+            ax.errorbar([px], [py], fmt=markers[k % len(markers)], ms=4, color="k", mfc="w",
+                        capsize=2, lw=0.8, label=label, **err)
+            label = None
+    if (x, y) == ("box", "eps") and all(r["boundary"] == "periodic" for r in rows):
+        lo, hi = min(r["box_side"] for r in rows), max(r["box_side"] for r in rows)
+        for key, style, name in (("l_over_l_perp", "--", "L = L_perp (theory)"),
+                                 ("l_over_l_par", ":", "L = L_par (theory)")):
+            by_eps = {}
+            for r in rows:
+                if r.get(key) and r[key] > 0:
+                    by_eps.setdefault(r["eps"], []).append(r["box_side"] / r[key])
+            eps = sorted(e for e in by_eps if lo / 2 <= np.median(by_eps[e]) <= 2 * hi)
+            if eps:
+                ax.plot([np.median(by_eps[e]) for e in eps], eps, "k" + style, lw=1, label=name)
+        ax.set_xlim(lo / 1.15, hi * 1.15)
+    if x in ("box", "n"):
+        from matplotlib.ticker import LogLocator, NullFormatter, ScalarFormatter
+
+        ax.set_xscale("log")
+        ax.xaxis.set_major_locator(LogLocator(subs=(1.0, 2.0, 5.0)))
+        ax.xaxis.set_major_formatter(ScalarFormatter())
+        ax.xaxis.set_minor_formatter(NullFormatter())
+    for c in classes:
+        ax.scatter([], [], c=CLASS_COLOURS[c], label=c)
+    full = boundary["full_grid_replicas"]
+    ax.set_title(f"{boundary['replicas']} replicas ({boundary['refinement_replicas']} added in "
+                 f"{boundary['rounds']} rounds); the full grid of this resolution: {full} "
+                 f"({100 * boundary['replicas'] / max(full, 1):.0f} %)", fontsize="small")
+    ax.set_xlabel({"box": "L (diameters)", "n": "N", "phi": "phi", "eps": "eps", "beta": "beta"}[x])
+    ax.set_ylabel(y)
+    ax.legend(frameon=False, fontsize="x-small", loc="best")
+    return ax
+
+
 def steady_shear(rep, last: float = 0.5) -> dict:
     """The steady state of a sheared replica (Lees-Edwards), averaged over the last ``last`` of its
     samples: temperature ``t``, reduced pressure tensor ``p_star`` (D x D, P/(nT)), reduced shear

@@ -124,6 +124,12 @@ LEGENDS = {
                      "clustering; for a sheared gas homogeneous or inhomogeneous flow) over the grid "
                      "axis that varies; against L/L_perp, dashed and dotted lines mark the theory's "
                      "L = L_perp and L = L_par.",
+    "phase-boundary": "The phase diagram of a refined sweep (edmd refine): the start grid's points as "
+                      "large pies of their replicas' classes, the points the refinement added as small "
+                      "ones; open symbols: where the majority class changes between two neighbouring "
+                      "points, at their midpoint with the pair as error bar (OUT/boundary.json); "
+                      "dashed and dotted: the linear theory's L = L_perp and L = L_par. The title "
+                      "counts the replicas against the full grid of the same resolution.",
     "shear-rheology": "The steady sheared gas against restitution, averaged over the second half of "
                       "each run (replicas at phi <= 0.05): reduced shear rate a* = a/nu0, viscosity "
                       "eta* and normal stresses P_ii/(nT) (points) against Grad's dilute theory "
@@ -148,6 +154,7 @@ TITLES = {
     "density-profiles": "Density profiles of the columns",
     "order-parameters": "Order parameters of the classifier",
     "phase-diagram": "Phase diagram",
+    "phase-boundary": "Phase boundary found by refinement",
     "shear-rheology": "Rheology of the steady shear flow",
     "stream-profiles": "Stream velocity and density across the flow",
     "movie-": "Movie of a {c} replica ({k})",
@@ -243,6 +250,17 @@ def _phase_figure(dest: Path, rows):
     fig, ax = plt.subplots(figsize=(6.5, 5))
     plots.phase_diagram(ax, rows, x=_x_axis(rows), y=_y_axis(rows))
     _save(fig, dest, "phase-diagram", saved)
+    return saved
+
+
+def _boundary_figure(dest: Path, rows, boundary, spec):
+    saved: list = []
+    fig, ax = plt.subplots(figsize=(7, 5.5))
+    x, y = plots.boundary_axes(rows, boundary)
+    points = [g for r in (spec.get("refinement") or {}).get("rounds", []) for g in r]
+    refined = [(float(p[x]), float(p[y])) for p in points if p.get(x) is not None and p.get(y) is not None]
+    plots.boundary_diagram(ax, rows, boundary, refined=refined)
+    _save(fig, dest, "phase-boundary", saved)
     return saved
 
 
@@ -342,6 +360,8 @@ def _write_report(out: Path, dest: Path, index, max_points: int, movies: bool, j
             tasks.append((_phase_figure, (dest, rows)))
     elif rows and any(r.get("homogeneous") is not None for r in rows):
         tasks.append((_phase_figure, (dest, rows)))
+    if rows and (out / "boundary.json").exists():
+        tasks.append((_boundary_figure, (dest, rows, io.read_boundary(out), index.spec)))
     sheared = [k for k in range(len(chosen)) if "pressure_tensor" in held[k]]
     if sheared:
         tasks.append((_panel_figure, (dest, "stream-profiles", plots.stream_profile,
