@@ -7,7 +7,9 @@
 #      the merged output equals a local `edmd run` of the same spec (every dataset and attribute);
 #   2. submits it again into a fresh directory, cancels one running array task with scancel, lets the
 #      rest finish, reruns the same submit command, and checks again: no replica lost, none duplicated,
-#      the output equal to the local run.
+#      the output equal to the local run;
+#   3. refines the sweep of 1 in two rounds with sweeps/slurm/refine.sh (a plan job and 4 array tasks
+#      per round, `edmd refine --plan` / `--shard`) and checks that it equals an unsharded `edmd refine`.
 # Daemons are started and stopped by PID. Skipped (exit 0, with a message) only where the packages are
 # missing and cannot be installed.
 set -euo pipefail
@@ -201,4 +203,19 @@ after=$(cd "$work/out/b/replicas" && stat -c '%n %i %Y.%y' *.h5 | sort)
 kept=$(comm -12 <(echo "$before") <(echo "$after") | wc -l)
 [ "$kept" = "$done_files" ] || { echo "test-slurm: error: the rerun rewrote finished replicas ($kept of $done_files untouched)" >&2; exit 1; }
 say "rerun of the submit command completed the sweep: $replicas replicas, the $done_files finished ones untouched, none lost or duplicated, equal to the local run, in $((SECONDS - t0)) s"
+# --- 3. a refinement in sharded rounds equals the unsharded refinement --------------------------------
+t0=$SECONDS
+cp -a "$work/local" "$work/local-refined"
+"$EDMD" refine "$work/local-refined" --rounds 2 --quiet >/dev/null 2>&1
+added=$(( $(ls "$work/local-refined/replicas" | grep -c '\.h5$') - replicas ))
+[ "$added" -gt 0 ] || { echo "test-slurm: error: the refinement of the test sweep added no replica" >&2; exit 1; }
+mkdir -p "$work/out/r"
+cp -a "$work/out/a/replicas" "$work/out/a/spec.json" "$work/out/r/"
+EDMD="$EDMD" "$root/sweeps/slurm/refine.sh" "$work/out/r" 4 2 --cpus-per-task=1 --chdir="$work"
+wait_idle
+"$PY" "$root/scripts/compare-outputs.py" "$work/local-refined" "$work/out/r"
+for f in spec.json boundary.json phase.json; do
+    cmp -s "$work/local-refined/$f" "$work/out/r/$f" || { echo "test-slurm: error: $f of the sharded refinement differs" >&2; exit 1; }
+done
+say "refinement in 2 rounds of a plan job + 4 array tasks equal to the unsharded refine ($added replicas added) in $((SECONDS - t0)) s"
 say "PASSED in $((SECONDS - start_time)) s"
