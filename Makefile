@@ -10,7 +10,8 @@
 #   make bench-instructions  cachegrind instructions per collision, edmd and the peers (history, 3 % flag)
 #   make bench-accuracy  run time against error (remedies, statistics, classification)
 #   make test-slurm  sweeps on a real single-node Slurm (also part of make test): a 4-task array sweep
-#                  equals a local run; a cancelled task is finished by rerunning the submit command
+#                  equals a local run; a cancelled task is finished by rerunning the submit command; a
+#                  refinement in sharded rounds (sweeps/slurm/refine.sh) equals the unsharded one
 #   make stress    stress tests at full size (numerical stability; CI runs short versions)
 #   make validate  long equilibrium-accuracy runs (chi against Luding / Carnahan-Starling)
 #   make deps      system packages (libhdf5-dev, hdf5-tools) and the Python venv for analysis/
