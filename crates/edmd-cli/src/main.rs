@@ -572,10 +572,19 @@ fn refine_command(a: RefineArgs) -> anyhow::Result<ExitCode> {
         let left = budget.saturating_sub(refine::refinement_replicas(&spec));
         let round = refine::plan(&refine::points(&spec, &records), &axes, left);
         if round.is_empty() {
-            eprintln!(
-                "refine: no pair of neighbouring points differs{}; the refinement ends after {done} round(s)",
-                if left == 0 { " within the budget" } else { "" }
-            );
+            let why = if left
+                < spec
+                    .grids()
+                    .iter()
+                    .map(|g| g.seeds as usize)
+                    .min()
+                    .unwrap_or(1)
+            {
+                format!("the budget of {budget} replicas is spent")
+            } else {
+                "no pair of neighbouring points differs".to_string()
+            };
+            eprintln!("refine: {why}; the refinement ends after {done} round(s)");
             break;
         }
         let added: usize = round.iter().map(|g| g.seeds as usize).sum();
