@@ -230,6 +230,18 @@ def order_parameters(ax, rep, thresholds: Optional[Dict[str, float]] = None):
     return ax
 
 
+def _pie(ax, x, y, fractions, classes, size):
+    """A pie of class fractions at (x, y), one wedge per class in CLASS_COLOURS."""
+    start = 0.0
+    for c, f in zip(classes, fractions / fractions.sum()):
+        if f <= 0:
+            continue
+        theta = np.linspace(2 * np.pi * start, 2 * np.pi * (start + f), 16)
+        verts = np.column_stack([np.r_[0, np.cos(theta)], np.r_[0, np.sin(theta)]])
+        ax.scatter([x], [y], marker=verts, s=size, c=CLASS_COLOURS[c], linewidths=0)
+        start += f
+
+
 def phase_diagram(ax, rows: Sequence[dict], x: str = "l_over_l_perp", size: float = 120.0,
                   y: str = "eps"):
     """The phase diagram from the phase table (``edmd summarize --format json``): ``y`` ('eps',
@@ -251,14 +263,7 @@ def phase_diagram(ax, rows: Sequence[dict], x: str = "l_over_l_perp", size: floa
         if not np.isfinite(fractions).all() or fractions.sum() == 0:
             ax.scatter([row[x]], [y_of(row)], s=size / 4, c="#bbbbbb", marker="x")
             continue
-        start = 0.0
-        for c, f in zip(classes, fractions / fractions.sum()):
-            if f <= 0:
-                continue
-            theta = np.linspace(2 * np.pi * start, 2 * np.pi * (start + f), 16)
-            verts = np.column_stack([np.r_[0, np.cos(theta)], np.r_[0, np.sin(theta)]])
-            ax.scatter([row[x]], [y_of(row)], marker=verts, s=size, c=CLASS_COLOURS[c], linewidths=0)
-            start += f
+        _pie(ax, row[x], y_of(row), fractions, classes, size)
     if x == "l_over_l_perp" and classes[0] == "kinetic":
         if y == "eps":
             ax.axvline(1.0, color="k", lw=1, ls="--", label="L = L_perp")
@@ -314,14 +319,7 @@ def boundary_diagram(ax, rows: Sequence[dict], boundary: dict, refined=(), size:
         if not np.isfinite(fractions).all() or fractions.sum() == 0:
             continue
         s = size * (0.4 if (float(row[xc]), float(row[yc])) in refined else 1.0)
-        start = 0.0
-        for c, f in zip(classes, fractions / fractions.sum()):
-            if f <= 0:
-                continue
-            theta = np.linspace(2 * np.pi * start, 2 * np.pi * (start + f), 16)
-            verts = np.column_stack([np.r_[0, np.cos(theta)], np.r_[0, np.sin(theta)]])
-            ax.scatter([row[xc]], [row[yc]], marker=verts, s=s, c=CLASS_COLOURS[c], linewidths=0)
-            start += f
+        _pie(ax, row[xc], row[yc], fractions, classes, s)
     pairs = sorted({tuple(c["regimes"]) for c in boundary["crossings"]})
     markers = "oDs^v"
     for k, pair in enumerate(pairs):

@@ -7,17 +7,19 @@ use std::process::ExitCode;
 use anyhow::{bail, Context};
 use clap::{Parser, Subcommand, ValueEnum};
 
+use refine::RefineArgs;
+
 use edmd_sweep::budget::{check_memory, replica_bytes, snapshots_per_replica, Bytes, MemoryLimit};
 use edmd_sweep::lock::LockMode;
 use edmd_sweep::output::OutDir;
 use edmd_sweep::record::{Record, Status};
-use edmd_sweep::refine;
 use edmd_sweep::run::{available_threads, run_sweep, RunOptions, RunReport};
-use edmd_sweep::spec::{RefineAxis, Refinement, Replica, Shard, Spec, MAX_SPEC_BYTES};
+use edmd_sweep::spec::{Replica, Shard, Spec, MAX_SPEC_BYTES};
 use edmd_sweep::summary::{phase_table, render, Format};
 use edmd_sweep::{merge, SweepError, QUICK_SPEC};
 
 mod bar;
+mod refine;
 mod size;
 
 use bar::Bar;
@@ -93,40 +95,7 @@ enum Command {
     },
     /// Refine a finished sweep's phase diagram: add the midpoints of neighbouring grid points whose
     /// regimes differ, run them, and repeat (docs/sweep-spec.md, "Refinement").
-    Refine {
-        /// Sweep output directory (of `edmd run`; its spec.json records the refinement).
-        out: PathBuf,
-        /// Rounds in all (a rerun continues to this many).
-        #[arg(long, default_value_t = 3)]
-        rounds: usize,
-        /// Replicas the refinement may add in all [default: no limit].
-        #[arg(long, value_name = "R")]
-        budget: Option<usize>,
-        /// Axes to bisect, e.g. eps,box (of eps, phi, box, n, beta) [default: those the grid varies,
-        /// or those of an earlier round].
-        #[arg(long, value_name = "AXES")]
-        axes: Option<String>,
-        /// Worker threads [default: every core; at most the threads this process may use].
-        #[arg(short = 'j', long)]
-        threads: Option<usize>,
-        /// Memory the run may use, e.g. 8G or 512M [default: the machine's or the cgroup's].
-        #[arg(long, value_name = "SIZE", value_parser = parse_size)]
-        max_memory: Option<u64>,
-        /// Run only share K of N (0-based) of the replicas planned and not finished; plans nothing
-        /// (a Slurm array task; `--plan` plans the next round).
-        #[arg(long, value_name = "K/N", conflicts_with = "plan")]
-        shard: Option<String>,
-        /// Run nothing: build the index of a complete refinement and plan its next round (after the
-        /// shards of a round; see sweeps/slurm/refine.sh).
-        #[arg(long)]
-        plan: bool,
-        /// No progress bar (it is also off when stderr is not a terminal).
-        #[arg(short, long)]
-        quiet: bool,
-        /// Format of the phase table printed at the end.
-        #[arg(long, value_enum, default_value_t = FormatArg::Table)]
-        format: FormatArg,
-    },
+    Refine(RefineArgs),
     /// Show how many replicas of a sweep output are finished, failed, partial or pending.
     Status {
         /// Sweep output directory.
@@ -276,29 +245,7 @@ fn execute(command: Command) -> anyhow::Result<ExitCode> {
             }
             Ok(say_problems(&report.problems))
         }
-        Command::Refine {
-            out,
-            rounds,
-            budget,
-            axes,
-            threads,
-            max_memory,
-            shard,
-            plan,
-            quiet,
-            format,
-        } => refine_command(RefineArgs {
-            out,
-            rounds,
-            budget,
-            axes,
-            threads,
-            max_memory,
-            shard,
-            plan,
-            quiet,
-            format,
-        }),
+        Command::Refine(args) => refine::command(args),
         Command::Status { out } => {
             let (dir, spec) = OutDir::open(&out)?;
             let records = dir.records(&spec);
@@ -482,148 +429,6 @@ fn say_problems(problems: &[(Replica, Status, String)]) -> ExitCode {
         problems.len()
     );
     ExitCode::from(2)
-}
-
-/// The options of `edmd refine`.
-struct RefineArgs {
-    out: PathBuf,
-    rounds: usize,
-    budget: Option<usize>,
-    axes: Option<String>,
-    threads: Option<usize>,
-    max_memory: Option<u64>,
-    shard: Option<String>,
-    plan: bool,
-    quiet: bool,
-    format: FormatArg,
-}
-
-/// `edmd refine`: rounds of run, plan, extend the spec, until the rounds, the budget or the pairs
-/// that differ run out; with `--shard` only this share's unfinished replicas, with `--plan` only the
-/// index and the next round's points.
-fn refine_command(a: RefineArgs) -> anyhow::Result<ExitCode> {
-    let (_, mut spec) = OutDir::open(&a.out)?;
-    if spec.classify.is_none() {
-        bail!(
-            "refine: {} has no \"classify\" section: its replicas carry no regime to refine",
-            a.out.join("spec.json").display()
-        );
-    }
-    let asked = a
-        .axes
-        .as_deref()
-        .map(|list| {
-            list.split(',')
-                .map(|name| {
-                    RefineAxis::parse(name).ok_or_else(|| {
-                        anyhow::anyhow!(
-                            "--axes {list}: unknown axis {name:?} (axes: eps, phi, box, n, beta)"
-                        )
-                    })
-                })
-                .collect::<anyhow::Result<Vec<_>>>()
-        })
-        .transpose()?;
-    let axes = refine::choose_axes(&spec, asked.as_deref())?;
-    let shard = a.shard.as_deref().map(Shard::parse).transpose()?;
-    let threads = thread_count(a.threads)?;
-    let budget = a.budget.unwrap_or(usize::MAX);
-    let mode = shard.map_or(LockMode::Exclusive, LockMode::Shard);
-    let dir = OutDir::prepare(&a.out, &spec, false, mode)?;
-    let opts = RunOptions {
-        threads: Some(threads),
-        max_memory: a.max_memory,
-        shard,
-        force: false,
-    };
-    let mut problems = Vec::new();
-    loop {
-        let records = if a.plan {
-            let records = dir.records(&spec);
-            let missing = records.iter().filter(|r| !r.status.has_file()).count();
-            if missing > 0 {
-                bail!(
-                    "refine --plan: {missing} replica(s) of {} are not finished; run them first (edmd refine {} --shard K/N, or without --shard)",
-                    a.out.display(),
-                    a.out.display()
-                );
-            }
-            dir.write_index(&spec, &records)?;
-            records
-        } else {
-            let report = run_sweep(&spec, &dir, &opts, &Bar::new(a.quiet))?;
-            say_ran(&spec, &report, shard, &a.out);
-            problems.extend(report.problems.iter().cloned());
-            match report.records {
-                Some(records) if shard.is_none() => records,
-                _ => {
-                    eprintln!(
-                        "refine: this shard's replicas are finished; `edmd refine {} --plan` plans the next round once every shard has run",
-                        a.out.display()
-                    );
-                    return Ok(say_problems(&problems));
-                }
-            }
-        };
-        let done = refine::rounds(&spec);
-        if done >= a.rounds {
-            break;
-        }
-        let left = budget.saturating_sub(refine::refinement_replicas(&spec));
-        let round = refine::plan(&refine::points(&spec, &records), &axes, left);
-        if round.is_empty() {
-            let why = if left
-                < spec
-                    .grids()
-                    .iter()
-                    .map(|g| g.seeds as usize)
-                    .min()
-                    .unwrap_or(1)
-            {
-                format!("the budget of {budget} replicas is spent")
-            } else {
-                "no pair of neighbouring points differs".to_string()
-            };
-            eprintln!("refine: {why}; the refinement ends after {done} round(s)");
-            break;
-        }
-        let added: usize = round.iter().map(|g| g.seeds as usize).sum();
-        let points = round.len();
-        spec = refine::with_round(&spec, &axes, round);
-        spec.validate()?;
-        dir.set_spec(&spec)?;
-        eprintln!(
-            "refine: round {} of {}: {points} point(s), {added} replica(s)",
-            done + 1,
-            a.rounds
-        );
-        if a.plan {
-            return Ok(ExitCode::SUCCESS);
-        }
-    }
-    let records = dir.records(&spec);
-    if spec.refinement.is_none() {
-        // No round was needed: the spec still records the refinement (and boundary.json is written).
-        spec.refinement = Some(Refinement {
-            axes: axes.clone(),
-            rounds: Vec::new(),
-        });
-        dir.set_spec(&spec)?;
-    }
-    dir.write_index(&spec, &records)?;
-    print!("{}", render(&phase_table(&spec, &records), a.format.into()));
-    let spent = refine::refinement_replicas(&spec);
-    let full = refine::full_grid_replicas(&spec, &axes, refine::rounds(&spec));
-    eprintln!(
-        "refine: {} round(s), {} replicas in all ({} added); the full grid of the same resolution holds {} ({:.0} %); boundary in {}",
-        refine::rounds(&spec),
-        records.len(),
-        spent,
-        full,
-        100.0 * records.len() as f64 / full.max(1) as f64,
-        a.out.join("boundary.json").display()
-    );
-    Ok(say_problems(&problems))
 }
 
 /// 0 when every replica is done, else 2 (failed, collapsed, stalled, missing or corrupt replicas).

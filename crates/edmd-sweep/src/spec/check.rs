@@ -49,16 +49,16 @@ impl Spec {
             };
             self.validate_grid(g, &at)?;
         }
-        let mut grids = grids;
-        if let Some(r) = &self.refinement {
-            for (k, round) in r.rounds.iter().enumerate() {
-                for (j, g) in round.iter().enumerate() {
-                    self.validate_grid(g, &format!("refinement.rounds[{k}][{j}]"))?;
-                }
-                grids.extend(round.iter().cloned());
+        for (k, round) in self
+            .refinement
+            .iter()
+            .flat_map(|r| r.rounds.iter().enumerate())
+        {
+            for (j, g) in round.iter().enumerate() {
+                self.validate_grid(g, &format!("refinement.rounds[{k}][{j}]"))?;
             }
         }
-        let total: f64 = grids.iter().map(grid_size).sum();
+        let total: f64 = self.grids().iter().map(grid_size).sum();
         if total > MAX_REPLICAS as f64 {
             let at = if grids.len() == 1 { "grid" } else { "grid[*]" };
             let g = &grids[0];

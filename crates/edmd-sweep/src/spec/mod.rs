@@ -16,6 +16,7 @@ mod check_scene;
 mod dup_keys;
 mod expand;
 mod one_or_many;
+mod refinement;
 mod sampling;
 mod species;
 
@@ -25,6 +26,7 @@ pub use boundary::BoundaryKind;
 pub use check::viscoelastic;
 pub use expand::{aspect_label, ball_volume, close_packing, stable_hash, Density, Replica, Shard};
 pub use one_or_many::OneOrMany;
+pub use refinement::{RefineAxis, Refinement};
 pub use sampling::{SampleSpec, SnapshotSpec};
 pub use species::{label as species_label, AspectAxis, ListAxis, Mixture, Species, SpeciesAxis};
 
@@ -370,65 +372,6 @@ pub struct Spec {
     /// a spec a person writes). Their replicas follow the grid's, in round order.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub refinement: Option<Refinement>,
-}
-
-/// A grid axis that `edmd refine` bisects: linear for ε, φ and β, logarithmic for N and the box.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
-#[serde(rename_all = "lowercase")]
-pub enum RefineAxis {
-    /// Restitution ε (linear midpoints).
-    Eps,
-    /// Packing fraction φ (linear).
-    Phi,
-    /// Box side L (geometric midpoints).
-    Box,
-    /// Particle number N (geometric, rounded to an integer).
-    N,
-    /// Tangential restitution β (linear).
-    Beta,
-}
-
-impl RefineAxis {
-    /// Every axis, in the order `--axes` lists them by default.
-    pub const ALL: [RefineAxis; 5] = [
-        RefineAxis::Eps,
-        RefineAxis::Phi,
-        RefineAxis::Box,
-        RefineAxis::N,
-        RefineAxis::Beta,
-    ];
-
-    /// The name of the axis: its field in a grid.
-    pub fn name(self) -> &'static str {
-        match self {
-            RefineAxis::Eps => "eps",
-            RefineAxis::Phi => "phi",
-            RefineAxis::Box => "box",
-            RefineAxis::N => "n",
-            RefineAxis::Beta => "beta",
-        }
-    }
-
-    /// Whether the axis is bisected in its logarithm (N and the box).
-    pub fn logarithmic(self) -> bool {
-        matches!(self, RefineAxis::Box | RefineAxis::N)
-    }
-
-    /// Parses an axis name.
-    pub fn parse(s: &str) -> Option<RefineAxis> {
-        RefineAxis::ALL.into_iter().find(|a| a.name() == s.trim())
-    }
-}
-
-/// The refinement of a sweep: the axes it bisects and the points of each round, each a grid of
-/// single values (with the grid's seeds).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
-#[serde(deny_unknown_fields)]
-pub struct Refinement {
-    /// The axes bisected.
-    pub axes: Vec<RefineAxis>,
-    /// The points added in each round.
-    pub rounds: Vec<Vec<Grid>>,
 }
 
 impl Spec {
