@@ -88,26 +88,28 @@ def test_sheared_flow_bands_in_large_boxes_only(ready):
         assert np.all(np.diff(h) <= 0), (eps, h)
 
 
-def test_sheared_flow_meets_the_dilute_theory_at_eps_0_9(ready):
-    """The steady state of shear-eps.json at eps >= 0.9 against the Grad values its files carry:
-    within 5 % (Grad's own accuracy there, 1.5 % measured in tests/engine/shear_rheology.rs; the
-    Enskog corrections at phi = 0.005, about 1 % in 3D; one seed over 100 tau, about 2 %)."""
+def test_sheared_flow_meets_kinetic_theory_at_every_eps(ready):
+    """The steady state of shear-eps.json (eps 0.95 ... 0.6) against the theory its files carry (the
+    Enskog gas at phi = 0.005 with the anisotropic-Gaussian closure, PHYSICS.md 7.2): a* within 5 %,
+    eta* within 6 %, normal stresses within 5 % -- the closure's own accuracy (3, 4, 3 %, measured
+    in tests/engine/shear_rheology.rs) plus one seed over 100 tau (about 2 %)."""
     index = ea.read_index(ready["shear-eps"])
     checked = 0
     for i in range(len(index)):
         rep = ea.read_replica(index.replica_path(i))
-        if rep.params["eps"] < 0.9:
-            continue
         s = plots.steady_shear(rep)
-        for got, want in ((s["a_star"], s["a_star_theory"]), (s["eta_star"], s["eta_star_theory"]),
-                          (s["p_star"][0, 0], s["pxx_theory"]), (s["p_star"][1, 1], s["pyy_theory"])):
-            assert abs(got / want - 1) < 0.05, (rep.params["dim"], rep.params["eps"], got, want)
+        pairs = [(s["a_star"], s["a_star_theory"], 0.05), (s["eta_star"], s["eta_star_theory"], 0.06),
+                 (s["p_star"][0, 0], s["pxx_theory"], 0.05), (s["p_star"][1, 1], s["pyy_theory"], 0.05)]
+        if rep.params["dim"] == 3:
+            pairs.append((s["p_star"][2, 2], s["pzz_theory"], 0.05))
+        for got, want, tol in pairs:
+            assert abs(got / want - 1) < tol, (rep.params["dim"], rep.params["eps"], got, want)
         # The shear's work is the dissipation (exact in the mean; sampled here every tau).
         half = len(rep.step) // 2
         work = -rep.params["shear_rate"] * np.mean(rep.observables["pressure_tensor"][half:, 0, 1])
         assert abs(work / np.mean(rep.observables["dissipation_rate"][half:]) - 1) < 0.05
         checked += 1
-    assert checked == 4
+    assert checked == 10
 
 
 def test_rough_files_carry_both_theories(ready):

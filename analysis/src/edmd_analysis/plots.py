@@ -373,8 +373,9 @@ def steady_shear(rep, last: float = 0.5) -> dict:
     """The steady state of a sheared replica (Lees-Edwards), averaged over the last ``last`` of its
     samples: temperature ``t``, reduced pressure tensor ``p_star`` (D x D, P/(nT)), reduced shear
     rate ``a_star`` = a/nu0(T) and viscosity ``eta_star`` = -P*_xy/a*, and the theory's values
-    (``*_theory``; NaN where the dilute theory does not apply). nu0 is the one of the theory
-    (PHYSICS.md 7.1), recovered from the file's theory temperature: nu0(T) = a / (a*_th sqrt(T_th/T))."""
+    (``*_theory``: the Enskog gas with the anisotropic-Gaussian closure, PHYSICS.md 7.2; NaN where
+    it does not apply). nu0 is the one of the theory, recovered from the file's theory temperature:
+    nu0(T) = a / (a*_th sqrt(T_th/T))."""
     obs, p = rep.observables, rep.params
     if "pressure_tensor" not in obs:
         raise KeyError(f"{rep.path}: no pressure tensor (not a sheared replica)")
@@ -393,13 +394,15 @@ def steady_shear(rep, last: float = 0.5) -> dict:
         "a_star": a_star, "eta_star": -p_star[0, 1] / a_star if a_star else np.nan,
         "a_star_theory": a_th, "eta_star_theory": float(p["shear_theory_viscosity"]),
         "pxx_theory": float(p["shear_theory_pxx"]), "pyy_theory": float(p["shear_theory_pyy"]),
+        "pzz_theory": float(p.get("shear_theory_pzz", p["shear_theory_pyy"])),
     }
 
 
 def shear_rheology(axes, reps, last: float = 0.5):
     """The steady sheared gas against restitution, one row of ``axes`` (three Axes: a*, eta*,
     normal stresses) per dimension present: simulation (points, the mean of the replicas of one
-    eps) against Grad's dilute theory (lines; PHYSICS.md 7.1)."""
+    eps) against kinetic theory (lines: the Enskog gas with the anisotropic-Gaussian closure,
+    PHYSICS.md 7.2)."""
     states = [steady_shear(r, last) for r in reps]
     dims = sorted({s["dim"] for s in states})
     axes = np.atleast_2d(axes)
@@ -416,12 +419,12 @@ def shear_rheology(axes, reps, last: float = 0.5):
 
         for ax, key, label in ((row[0], "a_star", "a* = a / nu0"), (row[1], "eta_star", "eta* = -P*_xy / a*")):
             ax.plot(eps, mean(key), "o", label="simulation")
-            ax.plot(eps, mean(key + "_theory"), "k--", lw=1, label="Grad (dilute)")
+            ax.plot(eps, mean(key + "_theory"), "k--", lw=1, label="kinetic theory")
             ax.set_ylabel(label)
         names = "xyz"
         for i in range(dim):
             line, = row[2].plot(eps, mean("p_star", i, i), "o", label=f"P*_{names[i]}{names[i]}")
-            th = mean("pxx_theory") if i == 0 else mean("pyy_theory")
+            th = mean(("pxx_theory", "pyy_theory", "pzz_theory")[i])
             row[2].plot(eps, th, "--", lw=1, color=line.get_color())
         row[2].set_ylabel("P_ii / (n T)")
         for ax in row:

@@ -14,7 +14,9 @@ pub use rough::RoughCooling;
 mod rough_sonine;
 pub use rough_sonine::{RoughSonine, SonineState};
 mod shear;
+mod shear_enskog;
 pub use shear::ShearFlow;
+pub use shear_enskog::{EnskogShear, ShearSteadyState};
 
 /// Henderson (1975): χ = (1 − 7φ/16)/(1 − φ)² for hard disks (reliable for φ ≤ 0.35).
 pub fn chi_henderson(phi: f64) -> f64 {

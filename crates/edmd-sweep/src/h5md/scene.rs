@@ -58,21 +58,28 @@ pub(super) fn profile_theory(g: &Group, r: &Replica, s: &Series, bins: usize) ->
     attr_f64(g, "theory_temperature", th.temperature)
 }
 
-/// Parameters of a sheared replica: `shear_rate`, and where the dilute theory applies (smooth grains
-/// of one species, constant restitution below 1) its steady state (PHYSICS.md §7.1):
-/// `shear_theory_reduced_rate` a*, `shear_theory_viscosity` η*, `shear_theory_pxx`,
-/// `shear_theory_pyy` (P*_ii), `shear_theory_temperature` (the T that a sustains, ν0 with χ(φ)).
+/// Parameters of a sheared replica: `shear_rate`, and where the theory applies (smooth grains of
+/// one species, constant restitution below 1) its steady state (the Enskog gas at the replica's φ,
+/// PHYSICS.md §7.2): `shear_theory_reduced_rate` a* = a/ν0 (the Boltzmann ν0 = p/η0),
+/// `shear_theory_viscosity` η* = −P*_xy/a*, `shear_theory_pxx`, `shear_theory_pyy`,
+/// `shear_theory_pzz` (P*_ii = P_ii/(nT), kinetic plus collisional; NaN in 2D),
+/// `shear_theory_temperature` (the T that a sustains).
 pub(super) fn shear_parameters(p: &Group, spec: &Spec, r: &Replica) -> hdf5::Result<()> {
     if !r.sheared() {
         return Ok(());
     }
     attr_f64(p, "shear_rate", r.shear_rate)?;
-    let values = crate::replica::shear_theory(spec, r).map_or([f64::NAN; 5], |(f, t)| {
+    let values = crate::replica::shear_theory(spec, r).map_or([f64::NAN; 6], |(f, t)| {
         [
             f.reduced_shear_rate(),
             f.reduced_viscosity(),
-            f.pxx(),
-            f.pyy(),
+            f.pressure(0, 0),
+            f.pressure(1, 1),
+            if r.dim == 3 {
+                f.pressure(2, 2)
+            } else {
+                f64::NAN
+            },
             t,
         ]
     });
@@ -81,6 +88,7 @@ pub(super) fn shear_parameters(p: &Group, spec: &Spec, r: &Replica) -> hdf5::Res
         "shear_theory_viscosity",
         "shear_theory_pxx",
         "shear_theory_pyy",
+        "shear_theory_pzz",
         "shear_theory_temperature",
     ]
     .into_iter()

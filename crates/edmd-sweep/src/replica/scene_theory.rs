@@ -7,8 +7,8 @@ use std::collections::HashMap;
 use std::sync::Mutex;
 
 use edmd_core::theory::{
-    barometric_floor, barometric_profile, chi, temperature_ratios, Component, PairCorrelation,
-    RoughCooling, RoughSonine, ShearFlow,
+    barometric_floor, barometric_profile, temperature_ratios, Component, EnskogShear,
+    PairCorrelation, RoughCooling, RoughSonine, ShearSteadyState,
 };
 
 use super::Series;
@@ -144,20 +144,20 @@ pub fn density_profile_theory(r: &Replica, s: &Series, bins: usize) -> Option<Pr
     })
 }
 
-/// The dilute theory of a sheared replica's steady flow (Grad's solution, PHYSICS.md §7.1), and the
-/// temperature its shear rate sustains (ν0 with the Enskog χ of its φ); None unless the grains are
-/// smooth, of one species, with constant restitution below 1 and a shear rate above 0.
-pub fn shear_theory(spec: &Spec, r: &Replica) -> Option<(ShearFlow, f64)> {
+/// The kinetic theory of a sheared replica's steady flow (the Enskog gas at its φ with the
+/// anisotropic-Maxwellian closure, PHYSICS.md §7.2), and the temperature its shear rate sustains;
+/// None unless the grains are smooth, of one species, with constant restitution below 1 and a
+/// shear rate above 0.
+pub fn shear_theory(spec: &Spec, r: &Replica) -> Option<(ShearSteadyState, f64)> {
     let applies = r.sheared()
         && r.shear_rate > 0.0
         && r.eps < 1.0
         && !r.rough()
         && r.species.is_none()
         && matches!(spec.rule, RuleSpec::Constant {});
-    applies.then(|| {
-        let flow = ShearFlow::new(r.dim, r.eps);
-        let n = r.n as f64 / r.sides().iter().product::<f64>();
-        let t = flow.steady_temperature(r.shear_rate, n, chi(r.dim, r.phi()));
-        (flow, t)
-    })
+    if !applies {
+        return None;
+    }
+    let flow = EnskogShear::new(r.dim, r.eps, r.phi()).solve()?;
+    Some((flow, flow.steady_temperature(r.shear_rate)))
 }

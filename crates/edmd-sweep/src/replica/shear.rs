@@ -140,7 +140,7 @@ fn contrast(profile: &[f64], n: usize) -> f64 {
 /// Homogeneous or inhomogeneous shear flow, from the density profiles along y (bands parallel to
 /// the flow) and along x (clusters), each averaged over the last half of the samples: inhomogeneous
 /// when either excess contrast reaches `threshold` (the classifier's `cluster_density`: the same
-/// Poisson-corrected density variance, PHYSICS.md §7.2).
+/// Poisson-corrected density variance, PHYSICS.md §7.3).
 pub(super) fn classify(s: &ShearSeries, n: usize, threshold: f64) -> Classification {
     let late = |rows: &[Vec<f64>]| {
         let from = rows.len() / 2;
