@@ -1,8 +1,11 @@
-//! The step: one event popped, decoded once, and handed to the handler of its kind.
+//! The step: one event popped, decoded once, and handed to the handler of its kind; the next shell
+//! exit or wall contact of list mode.
 
 use super::{Aux, Cells, Lists, Search, Simulation};
 use crate::calendar::Calendar;
 use crate::cells::NONE;
+use crate::nlist::NeighbourLists;
+use crate::predict::reach_time;
 use crate::{Boundary, CollisionRule};
 
 /// What an event was, with original particle indices.
@@ -78,6 +81,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                 EventKind::Wall(id)
             }
             Event::Aux(Aux::ShellExit) => {
+                self.counters.crossings += 1;
                 self.renew_list(i);
                 EventKind::ShellExit(id)
             }
@@ -193,5 +197,41 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         };
         self.meta[i].aux = aux;
         coll_t.min(aux_t)
+    }
+
+    /// Neighbour-list mode: the shell exit or wall contact of slot `i` (at now), whichever is first.
+    #[inline]
+    pub(super) fn aux_event_list(&self, nl: &NeighbourLists<D>, i: usize) -> (f64, Aux) {
+        let now = self.now;
+        let p = &self.particles[i];
+        let pos = p.r0 + p.vel * now;
+        let u = pos - nl.centre[i];
+        let v2 = p.vel.norm_squared();
+        let mut best = (f64::INFINITY, Aux::ShellExit);
+        if v2 > 0.0 {
+            // Positive root of |u + v s|² = h² with |u| ≤ h (up to round-off), cancellation-free.
+            let b = u.dot(&p.vel);
+            let c = (u.norm_squared() - nl.shell * nl.shell).min(0.0);
+            let q = (b * b - v2 * c).sqrt();
+            let s = if b > 0.0 { -c / (b + q) } else { (q - b) / v2 };
+            best.0 = now + s;
+        }
+        for a in 0..D {
+            let v = p.vel[a];
+            if !B::is_wall(a) || v == 0.0 {
+                continue;
+            }
+            let up = v > 0.0;
+            let target = if up {
+                self.box_len[a] - p.radius
+            } else {
+                p.radius
+            };
+            let t = now + reach_time(pos[a], v, target);
+            if t < best.0 {
+                best = (t, Aux::Wall { axis: a as u8, up });
+            }
+        }
+        best
     }
 }

@@ -1,14 +1,15 @@
-//! Neighbour-list mode ([`crate::nlist`]): list builds and renewals at shell exits, the search over a
-//! particle's list, and its next shell exit or wall contact.
+//! Neighbour-list mode ([`crate::nlist`]): list builds and renewals at shell exits, and the search
+//! over a particle's list (the sheared box's parts: `sim/shear_lists.rs`).
 
 use std::marker::PhantomData;
 
 use super::contact::image_near;
-use super::{Aux, Lists, Meta, Simulation};
+use super::shear_lists::{wrapped_now_sheared, ShearWindow};
+use super::{Lists, Meta, Simulation};
 use crate::calendar::Calendar;
 use crate::cells::{CellGrid, NONE};
 use crate::nlist::NeighbourLists;
-use crate::predict::{pair_time, reach_time};
+use crate::predict::pair_time;
 use crate::{Boundary, CollisionRule, Particle, Vector};
 
 /// Partners per group of the list scan's cheap test (two SSE2 registers of `f64`).
@@ -18,7 +19,7 @@ const LANES: usize = 2;
 /// at t ≤ limit needs b < 0 and σ² − r² = 2bt + v²t² ≥ 2b·limit. A test without the root that
 /// rejects most partners, with a margin for round-off so that it never rejects one the root keeps.
 #[inline(always)]
-fn rootless_test(b: f64, room: f64, limit: f64) -> bool {
+pub(super) fn rootless_test(b: f64, room: f64, limit: f64) -> bool {
     let bound = 2.0 * b * limit;
     (b < 0.0) & (room >= bound - 1e-9 * bound.abs())
 }
@@ -45,10 +46,11 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         }
     }
 
-    /// Shell exit of slot `i`: a new shell around its current position, new neighbours, and a new
-    /// prediction. Its trajectory is unchanged, so every other particle's event stays valid.
+    /// Shell exit of slot `i` (or a shear shift): a new shell around its current position, new
+    /// neighbours, and a new prediction. Its trajectory is unchanged (in a sheared box it may be
+    /// replaced by its image in the box, which names it anew), so every other particle's event stays
+    /// valid.
     pub(super) fn renew_list(&mut self, i: usize) {
-        self.counters.crossings += 1;
         let Some(mut l) = self.list_parts() else {
             return;
         };
@@ -78,11 +80,18 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             box_len,
             half_box,
             now,
+            shear,
             ..
         } = self
         else {
             return None;
         };
+        let window = B::SHEARED.then_some(ShearWindow {
+            delta: shear.offset + shear.speed * *now,
+            end: shear.offset + shear.speed * shear.next,
+            speed: shear.speed,
+            cell: shear.cell,
+        });
         Some(ListParts {
             nl,
             particles,
@@ -91,6 +100,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             box_len,
             half_box,
             now: *now,
+            window,
             _boundary: PhantomData,
         })
     }
@@ -112,9 +122,11 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             crate::prefetch::prefetch(&self.particles[j as usize]);
         }
         if self.far_from_periodic_faces(nl, i) {
-            self.scan_list::<false>(list, i, best, horizon)
+            self.scan_list::<false, false>(list, i, best, horizon)
+        } else if B::SHEARED && self.near_sliding_face(nl, i) {
+            self.scan_list::<true, true>(list, i, best, horizon)
         } else {
-            self.scan_list::<true>(list, i, best, horizon)
+            self.scan_list::<true, false>(list, i, best, horizon)
         }
     }
 
@@ -135,7 +147,10 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         )
     }
 
-    /// The list scan of [`Self::search_list`], with (`WRAP`) or without nearest images.
+    /// The list scan of [`Self::search_list`], with (`WRAP`) or without nearest images; `SHEAR`:
+    /// near a sliding face of a sheared box, where a partner across it (a y gap over half the box)
+    /// skips the cheap test, which knows only the periodic images, and every kept partner gets the
+    /// sheared image's exact time ([`Self::consider_sheared`]).
     ///
     /// Partners go through a cheap test in groups of [`LANES`]: the test without the root, written
     /// lane by lane over arrays so that it compiles to packed arithmetic without branches. Only the
@@ -144,7 +159,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     /// test uses the bound `limit` of the group's start, which is never below the bound a one-by-one
     /// scan would use there: it keeps at least the partners that scan would keep.
     #[inline(always)]
-    fn scan_list<const WRAP: bool>(
+    fn scan_list<const WRAP: bool, const SHEAR: bool>(
         &self,
         list: &[u32],
         i: usize,
@@ -174,6 +189,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                 radius[k] = pj.radius;
             }
             let mut keep = [false; LANES];
+            let mut across = [false; LANES];
             for k in 0..LANES {
                 // b = r·v and |r|², summed over the axes in the order of `Vector::dot`.
                 let mut b = 0.0;
@@ -183,6 +199,9 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                     let d = if WRAP && !B::is_wall(a) {
                         // `image_near`: the shifted position minus the partner's.
                         let raw = pos_i[a] - pos;
+                        if SHEAR && a == 1 {
+                            across[k] = raw.abs() > self.half_box[a];
+                        }
                         let up = if raw > self.half_box[a] {
                             self.box_len[a]
                         } else {
@@ -207,11 +226,16 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                     }
                 }
                 let sigma = pi.radius + radius[k];
-                keep[k] = rootless_test(b, sigma * sigma - dr2, limit);
+                keep[k] = rootless_test(b, sigma * sigma - dr2, limit) | across[k];
             }
             if keep.iter().any(|&k| k) {
                 for (k, &j) in group.iter().enumerate() {
-                    if keep[k] {
+                    if !keep[k] {
+                        continue;
+                    }
+                    if SHEAR {
+                        self.consider_sheared(&pi, &pos_i, j, &mut best, &mut limit);
+                    } else {
                         self.consider::<WRAP>(&pi, &pos_i, vi2, j, &mut best, &mut limit);
                     }
                 }
@@ -251,42 +275,6 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             }
         }
     }
-
-    /// Neighbour-list mode: the shell exit or wall contact of slot `i` (at now), whichever is first.
-    #[inline]
-    pub(super) fn aux_event_list(&self, nl: &NeighbourLists<D>, i: usize) -> (f64, Aux) {
-        let now = self.now;
-        let p = &self.particles[i];
-        let pos = p.r0 + p.vel * now;
-        let u = pos - nl.centre[i];
-        let v2 = p.vel.norm_squared();
-        let mut best = (f64::INFINITY, Aux::ShellExit);
-        if v2 > 0.0 {
-            // Positive root of |u + v s|² = h² with |u| ≤ h (up to round-off), cancellation-free.
-            let b = u.dot(&p.vel);
-            let c = (u.norm_squared() - nl.shell * nl.shell).min(0.0);
-            let q = (b * b - v2 * c).sqrt();
-            let s = if b > 0.0 { -c / (b + q) } else { (q - b) / v2 };
-            best.0 = now + s;
-        }
-        for a in 0..D {
-            let v = p.vel[a];
-            if !B::is_wall(a) || v == 0.0 {
-                continue;
-            }
-            let up = v > 0.0;
-            let target = if up {
-                self.box_len[a] - p.radius
-            } else {
-                p.radius
-            };
-            let t = now + reach_time(pos[a], v, target);
-            if t < best.0 {
-                best = (t, Aux::Wall { axis: a as u8, up });
-            }
-        }
-        best
-    }
 }
 
 /// The lists and the parts of the simulation their builds change and read, borrowed side by side.
@@ -298,13 +286,19 @@ struct ListParts<'a, const D: usize, B> {
     box_len: &'a Vector<D>,
     half_box: &'a Vector<D>,
     now: f64,
+    /// Sheared boxes: the sliding images' window (`None` elsewhere).
+    window: Option<ShearWindow>,
     _boundary: PhantomData<B>,
 }
 
 impl<const D: usize, B: Boundary> ListParts<'_, D, B> {
     /// Centres slot `i`'s shell on its position now (wrapped into the box); returns the position.
     fn wrap_centre(&mut self, i: usize) -> Vector<D> {
-        let pos = wrapped_now::<D, B>(&mut self.particles[i], self.now, self.box_len);
+        let p = &mut self.particles[i];
+        let pos = match self.window {
+            Some(w) => wrapped_now_sheared(p, self.now, self.box_len, &w),
+            None => wrapped_now::<D, B>(p, self.now, self.box_len),
+        };
         self.nl.centre[i] = pos;
         pos
     }
@@ -325,17 +319,22 @@ impl<const D: usize, B: Boundary> ListParts<'_, D, B> {
             half_box: self.half_box,
             _boundary: PhantomData,
         };
-        self.nl.gather(&space, ci, i, later_only, found);
+        match self.window {
+            Some(w) if ci[1] == 0 || ci[1] as usize + 1 == self.grid.n[1] => {
+                self.nl.gather_sheared(&space, &w, ci, i, later_only, found)
+            }
+            _ => self.nl.gather(&space, ci, i, later_only, found),
+        }
     }
 }
 
 /// What [`NeighbourLists::gather`] reads of the simulation.
-struct Space<'a, const D: usize, B> {
-    particles: &'a [Particle<D>],
-    grid: &'a CellGrid<D>,
-    box_len: &'a Vector<D>,
-    half_box: &'a Vector<D>,
-    _boundary: PhantomData<B>,
+pub(super) struct Space<'a, const D: usize, B> {
+    pub(super) particles: &'a [Particle<D>],
+    pub(super) grid: &'a CellGrid<D>,
+    pub(super) box_len: &'a Vector<D>,
+    pub(super) half_box: &'a Vector<D>,
+    pub(super) _boundary: PhantomData<B>,
 }
 
 impl<const D: usize> NeighbourLists<D> {

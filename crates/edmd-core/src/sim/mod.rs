@@ -40,6 +40,7 @@ mod params;
 mod query;
 mod run;
 mod shear;
+mod shear_lists;
 mod upkeep;
 
 use collapse::CollapseMonitor;
@@ -339,9 +340,11 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             max_d = max_d.max(2.0 * p.radius);
         }
         let skin = params.neighbour_skin * max_d;
-        let list_grid = (skin > 0.0 && !B::GRAVITY && !B::SHEARED)
+        // Sheared boxes need four distinct columns across the sliding faces (`sim/lists.rs`).
+        let list_grid = (skin > 0.0 && !B::GRAVITY)
             .then(|| CellGrid::new(&box_len, max_d + skin, max_d * params.cell_factor).ok())
-            .flatten();
+            .flatten()
+            .filter(|g| !B::SHEARED || g.n[0] >= 4);
         let (grid, nl) = match list_grid {
             Some(g) => (g, Some(NeighbourLists::new(n, skin, max_d))),
             None => (

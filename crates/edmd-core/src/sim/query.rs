@@ -18,7 +18,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     /// compiler: the list-mode loop is not compiled into those scenes at all.
     #[inline(always)]
     pub(super) fn uses_lists(&self) -> bool {
-        !B::GRAVITY && !B::SHEARED && self.nl.is_some()
+        !B::GRAVITY && self.nl.is_some()
     }
 
     /// Number of particles.
@@ -174,6 +174,10 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         if B::GRAVITY {
             v[D - 1] -= self.params.gravity * self.now;
         }
+        if B::SHEARED && self.nl.is_some() {
+            // List mode wraps lazily: a grain past a sliding face reports its image in the box.
+            v[0] -= self.faces_passed(p) * self.shear.speed;
+        }
         v
     }
 
@@ -182,12 +186,14 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     /// trajectory is), the velocity itself elsewhere. Simulation units.
     #[inline(always)]
     pub(crate) fn thermal_velocity_now(&self, p: &Particle<D>) -> Vector<D> {
-        let mut v = self.velocity_now(p);
         if B::SHEARED {
+            // The same for a grain and its images: no wrapping needed.
+            let mut v = p.vel;
             let y = p.r0[1] + p.vel[1] * self.now;
             v[0] -= self.params.shear_rate * (y - self.half_box[1]);
+            return v;
         }
-        v
+        self.velocity_now(p)
     }
 
     /// Potential energy Σ m g h in the gravity field (0 without gravity).
@@ -211,6 +217,11 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         let mut x = p.r0 + p.vel * self.now;
         if B::GRAVITY {
             x[D - 1] -= 0.5 * self.params.gravity * self.now * self.now;
+        }
+        if B::SHEARED && self.nl.is_some() {
+            let k = self.faces_passed(p);
+            x[1] -= k * self.box_len[1];
+            x[0] -= k * self.shear_delta();
         }
         for a in 0..D {
             if !B::is_wall(a) {

@@ -20,6 +20,15 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         self.shear.offset + self.shear.speed * self.now
     }
 
+    /// How many sliding faces a grain's trajectory has passed upwards (negative: downwards) since
+    /// it was last wrapped into the box: 0 in cell mode, where each crossing wraps at once; in list
+    /// mode, where trajectories wrap lazily at list renewals, the grain's image in the box is this
+    /// many L_y below, Δ times it to the left, and slower by as many a L_y.
+    #[inline(always)]
+    pub(super) fn faces_passed(&self, p: &Particle<D>) -> f64 {
+        ((p.r0[1] + p.vel[1] * self.now) / self.box_len[1]).floor()
+    }
+
     /// The displacement along x of the images across the y faces at the current time, in [0, L_x),
     /// and the shear rate: what a reader of the positions needs to draw the sliding images.
     pub fn shear_offset(&self) -> f64 {
@@ -150,7 +159,8 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     }
 
     /// The shift: Δ reached the next multiple of the cell side. The clock moves to it and every
-    /// particle of the two outer rows is searched again with the stencil moved by one column.
+    /// particle of the two outer rows is searched again with the stencil moved by one column (in
+    /// list mode: its list is renewed for the next window, `sim/lists.rs`).
     #[cold]
     pub(super) fn shear_shift(&mut self) {
         self.now = self.shear.next;
@@ -178,8 +188,16 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                 }
             }
         }
-        for i in outer {
-            self.predict::<Cells>(i);
+        if self.uses_lists() {
+            // The grains filed there are those whose shell centres lie within a list's reach of a
+            // sliding face: their lists are gathered again for the new window.
+            for i in outer {
+                self.renew_list(i);
+            }
+        } else {
+            for i in outer {
+                self.predict::<Cells>(i);
+            }
         }
     }
 
