@@ -132,8 +132,8 @@ LEGENDS = {
                       "counts the replicas against the full grid of the same resolution.",
     "shear-rheology": "The steady sheared gas against restitution, averaged over the second half of "
                       "each run (replicas at phi <= 0.05): reduced shear rate a* = a/nu0, viscosity "
-                      "eta* and normal stresses P_ii/(nT) (points) against Grad's dilute theory "
-                      "(dashed; docs/PHYSICS.md 7.1).",
+                      "eta* and normal stresses P_ii/(nT) (points) against kinetic theory, the Enskog "
+                      "gas with the anisotropic-Gaussian closure (dashed; docs/PHYSICS.md 7.2).",
     "stream-profiles": "Stream velocity u_x(y) of sheared replicas over the second half of the run "
                        "against the imposed a (y - L_y/2); orange: density along y over its mean "
                        "(flat when the flow is homogeneous).",
@@ -267,7 +267,8 @@ def _boundary_figure(dest: Path, rows, boundary, spec):
 def _rheology_figure(dest: Path, paths):
     saved: list = []
     reps = [io.read_replica(p) for p in paths]
-    # The dilute theory's replicas only (phi <= 0.05: Enskog's corrections of a few percent).
+    # Dilute replicas only (phi <= 0.05): the figure is against eps, and replicas of other densities,
+    # whose stresses carry the collisional transfer, would be averaged with them.
     reps = [r for r in reps if np.isfinite(float(r.params.get("shear_theory_reduced_rate", np.nan)))
             and float(r.params["phi"]) <= 0.05]
     if not reps:
