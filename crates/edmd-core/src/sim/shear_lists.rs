@@ -18,13 +18,16 @@ use crate::{Boundary, CollisionRule, Particle, Vector};
 
 impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B, R, C> {
     /// Whether a listed partner of `i` may sit across a sliding face of a sheared box: its shell
-    /// centre lies within a list's reach of a y face. Otherwise its partners are not across one
-    /// (their centres within reach, in the box), and the periodic images along x and z that
-    /// [`Self::scan_list`] takes are the ones `sheared_image_near` takes, to the bit.
+    /// centre lies within a list's reach of a y face (or the box is so thin that reach plus skin
+    /// exceeds half of it). Otherwise its partners are not across one (their centres within reach,
+    /// in the box; the grains within their shells, less than half the box apart along y), and the
+    /// periodic images along x and z that [`Self::scan_list`] takes are the ones
+    /// `sheared_image_near` takes, to the bit.
     #[inline(always)]
     pub(super) fn near_sliding_face(&self, nl: &NeighbourLists<D>, i: usize) -> bool {
         let y = nl.centre[i][1];
-        !(y > nl.max_reach && y < self.box_len[1] - nl.max_reach)
+        nl.max_reach + nl.skin >= self.half_box[1]
+            || !(y > nl.max_reach && y < self.box_len[1] - nl.max_reach)
     }
 
     /// [`Self::consider`] across the sliding faces of a sheared box: the partner's image is the one
