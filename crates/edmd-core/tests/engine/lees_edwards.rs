@@ -195,10 +195,10 @@ fn sheared_spheres_collide_as_brute_force_predicts() {
     against_brute_force::<3, _>(150, 0.2, 1.0, Elastic, 4000);
 }
 
-/// List mode (φ 0.45, N = 250: a 4 × 4 × 4 grid of cells of side σ + δ): lazily wrapped
+/// List mode (φ 0.45, N = 180: a 4 × 4 × 4 grid of cells of side σ + δ): lazily wrapped
 /// trajectories, lists across the sliding faces gathered for a window of Δ and renewed at each
 /// shift. Inelastic (ε = 0.5) at the rate whose steady temperature kinetic theory puts at T0, so
-/// that the images slide by many cells in 10⁴ collisions (an elastic gas would heat up and collide
+/// that the images slide by many cells in 7500 collisions (an elastic gas would heat up and collide
 /// ever faster than they slide).
 #[test]
 fn dense_sheared_spheres_on_neighbour_lists_collide_as_brute_force_predicts() {
@@ -207,11 +207,11 @@ fn dense_sheared_spheres_on_neighbour_lists_collide_as_brute_force_predicts() {
         .unwrap()
         .shear_rate;
     against_brute_force::<3, _>(
-        250,
+        180,
         0.45,
         rate,
         ConstantRestitution::new(0.5).unwrap(),
-        10_000,
+        7500,
     );
 }
 
