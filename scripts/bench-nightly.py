@@ -21,12 +21,17 @@ on each peer case (2D phi 0.3 N = 1e4, 1e5, 1e6 against the 2D fork of Smallenbu
 0.45 N = 10976, 97556, 1000188 against Single), --passes times. The entry records both medians and
 their ratio edmd/peer, and a ratio more than --threshold below the previous entry's is flagged: ratios
 measured in one run survive the machine's noise better than absolute rates. Without the peers this
-part is skipped with a note. About 10 more minutes on 2 cores.
+part is skipped with a note. About 10 more minutes on 2 cores. Beside the rates, each peer case up to
+--instructions-max-n (default 1e5) records the instructions per collision of both codes by cachegrind
+(scripts/instructions.py: deterministic, so a growth of edmd's count by more than 3 % over the
+previous entry is flagged however noisy the machine); about 5 more minutes where valgrind is
+installed, skipped with a note where it is not.
 
 Exits 1 when a case is flagged (unless --no-fail), 2 on usage errors.
 
     scripts/bench-nightly.py [--history benches/history.jsonl] [--only D=2,N=10000]
                              [--threshold 0.10] [--passes 3] [--confirm 2] [--peers DIR | --no-peers]
+                             [--instructions-max-n N]
 """
 
 from __future__ import annotations
@@ -36,12 +41,14 @@ import datetime as dt
 import json
 import os
 import platform
+import shutil
 import subprocess
 import sys
 import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
+import instructions  # noqa: E402
 import peers  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -163,6 +170,7 @@ def main() -> int:
     ap.add_argument("--no-record", action="store_true", help="do not append to the history file")
     ap.add_argument("--peers", help="folder of the peer codes (with build.sh); default: env EDMD_PEERS or shared/peers beside the checkout")
     ap.add_argument("--no-peers", action="store_true", help="skip the side-by-side part")
+    ap.add_argument("--instructions-max-n", type=int, default=100_000, help="count instructions per collision (cachegrind) on the peer cases up to this N; 0: none (default 1e5)")
     args = ap.parse_args()
     if not 0 < args.threshold < 1:
         print(f"error: invalid --threshold {args.threshold}: must lie in (0, 1)", file=sys.stderr)
@@ -263,6 +271,9 @@ def main() -> int:
         rows.append(row)
         if prev and row["ratio"] < prev["ratio"] * (1 - args.threshold):
             flagged.append((row, prev, row["ratio"] / prev["ratio"]))
+        grown = instruction_growth(row, prev)
+        if grown is not None and grown > 1 + INSTRUCTION_THRESHOLD:
+            flagged.append((row, prev, grown))
     if not args.no_record:
         history_path.parent.mkdir(parents=True, exist_ok=True)
         with history_path.open("a") as f:
@@ -272,13 +283,26 @@ def main() -> int:
     if flagged:
         print(f"bench-nightly: {len(flagged)} case(s) more than {100 * args.threshold:.0f} % slower than the previous entry on this machine:")
         for row, prev, ratio in flagged:
-            if "peer" in row:
+            if ratio > 1:
+                print(f"  instructions D={row['d']} N={row['n']}: {row['instructions_per_collision']:.0f} per collision vs {prev['instructions_per_collision']:.0f} ({100 * (ratio - 1):+.1f} %) at {prev['commit']}")
+            elif "peer" in row:
                 print(f"  side by side D={row['d']} N={row['n']}: edmd/peer {row['ratio']:.2f} vs {prev['ratio']:.2f} ({100 * (ratio - 1):+.1f} %) at {prev['commit']}")
             else:
                 print(f"  D={row['d']} N={row['n']} phi={row['phi']} eps={row['eps']}: {row['collisions_per_s']:.0f} vs {prev['collisions_per_s']:.0f} collisions/s ({100 * (ratio - 1):+.1f} %) at {prev['commit']}")
         return 0 if args.no_fail else 1
     print("bench-nightly: no case slower than the threshold")
     return 0
+
+
+# A growth of edmd's instructions per collision beyond this fraction is flagged (deterministic counts).
+INSTRUCTION_THRESHOLD = 0.03
+
+
+def instruction_growth(row: dict, prev: dict | None) -> float | None:
+    """edmd's instructions per collision over the previous entry's, where both have them."""
+    if not prev or "instructions_per_collision" not in row or "instructions_per_collision" not in prev:
+        return None
+    return row["instructions_per_collision"] / prev["instructions_per_collision"]
 
 
 def median(xs: list[float]) -> float:
@@ -317,7 +341,27 @@ def side_by_side(args, bench: Path, run: dict, previous: dict, only: dict) -> li
         was = f"{prev['ratio']:8.2f}" if prev else f"{'-':>8}"
         print(f"{d:>2} {n:>8} {peers.PHI[d]:>5} {o:11.0f} {p:11.0f} {o / p:6.2f} {was}  {peers.NAME[d]}", flush=True)
         out.append((row, prev))
+    count_instructions(args, bench, folder, out)
     return out
+
+
+def count_instructions(args, bench: Path, folder: Path, out: list[tuple[dict, dict | None]]) -> None:
+    """Adds both codes' instructions per collision (cachegrind) to the rows up to --instructions-max-n."""
+    todo = [row for row, _ in out if row["n"] <= args.instructions_max_n]
+    if not todo:
+        return
+    if shutil.which("valgrind") is None:
+        print("bench-nightly: instruction counts skipped: valgrind is not installed")
+        return
+    instructions.BENCH = bench
+    generic = instructions.build_generic(folder)
+    print(f"{'D':>2} {'N':>8} {'edmd instr/coll':>16} {'peer instr/coll':>16} {'ratio':>6}")
+    for row in todo:
+        ours = instructions.edmd_per_collision(row["d"], row["n"])
+        theirs = instructions.peer_per_collision(generic, row["d"], row["n"])
+        row["instructions_per_collision"] = round(ours, 1)
+        row["peer_instructions_per_collision"] = round(theirs, 1)
+        print(f"{row['d']:>2} {row['n']:>8} {ours:16.0f} {theirs:16.0f} {ours / theirs:6.2f}", flush=True)
 
 
 if __name__ == "__main__":
