@@ -28,6 +28,7 @@
 
 mod alloc;
 pub mod boundary;
+pub mod caches;
 pub mod calendar;
 pub mod cells;
 pub mod collide;

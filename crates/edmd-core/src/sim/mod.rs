@@ -45,10 +45,6 @@ mod upkeep;
 
 use collapse::CollapseMonitor;
 
-/// Engine arrays beyond which each event in neighbour-list mode prefetches the next one's partner
-/// (`sim/hints.rs`): twice a large last-level cache. Below it those lines are
-/// mostly cached and the extra loads cost more than they hide (docs/benchmarks.md).
-const LOOK_AHEAD_BYTES: usize = 64 << 20;
 pub use collapse::{Collapse, CollapseReason};
 pub use engine::Engine;
 pub use event::EventKind;
@@ -424,7 +420,9 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         }
         sim.build_lists();
         sim.restart_events();
-        sim.set_look_ahead(sim.heap_bytes() > LOOK_AHEAD_BYTES);
+        // Beyond the caches the look-ahead's hints hide memory latency; below, they cost more than
+        // they hide (`crate::caches`, docs/benchmarks.md).
+        sim.set_look_ahead(sim.heap_bytes() > crate::caches::look_ahead_threshold());
         Ok(sim)
     }
 

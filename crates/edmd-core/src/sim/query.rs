@@ -55,7 +55,8 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     /// Whether the large-system look-ahead is on: prefetch hints for what the coming events will
     /// read (the next partner's list in neighbour-list mode, the staged look-ahead over the
     /// calendar's next buckets in cell mode). It is switched on when the engine's arrays exceed
-    /// 64 MiB, where those lines are not in cache.
+    /// [`crate::caches::look_ahead_threshold`] (32 times the per-core L2: 64 MiB with a 2 MiB L2),
+    /// where those lines are not in cache.
     pub fn look_ahead(&self) -> bool {
         self.look_ahead.on
     }
