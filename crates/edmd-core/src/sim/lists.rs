@@ -19,7 +19,7 @@ const LANES: usize = 2;
 /// at t ≤ limit needs b < 0 and σ² − r² = 2bt + v²t² ≥ 2b·limit. A test without the root that
 /// rejects most partners, with a margin for round-off so that it never rejects one the root keeps.
 #[inline(always)]
-pub(super) fn rootless_test(b: f64, room: f64, limit: f64) -> bool {
+fn rootless_test(b: f64, room: f64, limit: f64) -> bool {
     let bound = 2.0 * b * limit;
     (b < 0.0) & (room >= bound - 1e-9 * bound.abs())
 }
@@ -265,13 +265,38 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         } else {
             pos_i - pos_j
         };
-        let dv = pi.vel - pj.vel;
-        let sigma = pi.radius + pj.radius;
-        if rootless_test(dr.dot(&dv), sigma * sigma - dr.norm_squared(), *limit) {
-            let t = now + pair_time(&dr, &dv, sigma, vi2 + pj.vel.norm_squared());
+        let v2 = vi2 + pj.vel.norm_squared();
+        self.keep_if_earlier(
+            &dr,
+            &(pi.vel - pj.vel),
+            pi.radius + pj.radius,
+            v2,
+            j,
+            best,
+            limit,
+        );
+    }
+
+    /// The pair at separation `dr` and relative velocity `dv` (contact at `sigma`; `v2` the two
+    /// speeds squared, for round-off): the test without the root, then the exact contact time,
+    /// which replaces `best` (and tightens `limit`, relative to now) when it is earlier.
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn keep_if_earlier(
+        &self,
+        dr: &Vector<D>,
+        dv: &Vector<D>,
+        sigma: f64,
+        v2: f64,
+        j: u32,
+        best: &mut (f64, u32),
+        limit: &mut f64,
+    ) {
+        if rootless_test(dr.dot(dv), sigma * sigma - dr.norm_squared(), *limit) {
+            let t = self.now + pair_time(dr, dv, sigma, v2);
             if t < best.0 {
                 *best = (t, j);
-                *limit = limit.min(t - now);
+                *limit = limit.min(t - self.now);
             }
         }
     }

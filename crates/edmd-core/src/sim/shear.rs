@@ -108,22 +108,8 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             if !along(1, oy) {
                 continue;
             }
-            let mut y = ci[1] as i64 + oy;
-            let wrap = if y < 0 {
-                y += ny;
-                -1
-            } else if y >= ny {
-                y -= ny;
-                1
-            } else {
-                0
-            };
             // The columns to visit, and which of them a crossing along x newly reaches.
-            let (first, count) = match wrap {
-                0 => (ci[0] as i64 - 1, 3),
-                1 => (ci[0] as i64 - m - 2, 4),
-                _ => (ci[0] as i64 + m - 1, 4),
-            };
+            let (y, wrap, first, count) = sliding_row(ci[0], ci[1] as i64 + oy, ny, m);
             let mut pi_img = pi;
             pi_img.vel[0] -= wrap as f64 * self.shear.speed;
             for k in 0..count {
@@ -238,5 +224,20 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         } else {
             0.0
         }
+    }
+}
+
+/// The row `y` (possibly across a sliding face) of a stencil around column `cx`, with `ny` rows and
+/// the shift count `m` (module docs): the row wrapped into the box, the face crossed (+1 above, −1
+/// below, 0 none), and the first and number of (unwrapped) columns whose images can be in reach.
+#[inline(always)]
+pub(super) fn sliding_row(cx: u32, y: i64, ny: i64, m: i64) -> (i64, i64, i64, i64) {
+    let cx = cx as i64;
+    if y < 0 {
+        (y + ny, -1, cx + m - 1, 4)
+    } else if y >= ny {
+        (y - ny, 1, cx - m - 2, 4)
+    } else {
+        (y, 0, cx - 1, 3)
     }
 }

@@ -8,12 +8,12 @@
 //! columns of `sim/shear.rs`, keeping an image that comes within reach for any Δ up to the next
 //! shift; at the shift every such list is gathered again (`Simulation::shear_shift`).
 
-use super::lists::{rootless_test, Space};
+use super::lists::Space;
+use super::shear::sliding_row;
 use super::Simulation;
 use crate::calendar::Calendar;
 use crate::cells::NONE;
 use crate::nlist::NeighbourLists;
-use crate::predict::pair_time;
 use crate::{Boundary, CollisionRule, Particle, Vector};
 
 impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B, R, C> {
@@ -45,16 +45,16 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         let pj = &self.particles[j as usize];
         let pos_j = pj.r0 + pj.vel * now;
         let (ri, vi) = self.sheared_image_near(pos_i, &pi.vel, &pos_j);
-        let dr = ri - pos_j;
-        let dv = vi - pj.vel;
-        let sigma = pi.radius + pj.radius;
-        if rootless_test(dr.dot(&dv), sigma * sigma - dr.norm_squared(), *limit) {
-            let t = now + pair_time(&dr, &dv, sigma, vi.norm_squared() + pj.vel.norm_squared());
-            if t < best.0 {
-                *best = (t, j);
-                *limit = limit.min(t - now);
-            }
-        }
+        let v2 = vi.norm_squared() + pj.vel.norm_squared();
+        self.keep_if_earlier(
+            &(ri - pos_j),
+            &(vi - pj.vel),
+            pi.radius + pj.radius,
+            v2,
+            j,
+            best,
+            limit,
+        );
     }
 }
 
@@ -126,21 +126,7 @@ impl<const D: usize> NeighbourLists<D> {
         let slide = (w.end - w.delta).max(0.0);
         let far = self.max_reach * self.max_reach * (1.0 + 1e-9);
         for oy in -1..=1i64 {
-            let mut y = ci[1] as i64 + oy;
-            let wrap = if y < 0 {
-                y += ny;
-                -1
-            } else if y >= ny {
-                y -= ny;
-                1
-            } else {
-                0
-            };
-            let (first, count) = match wrap {
-                0 => (ci[0] as i64 - 1, 3),
-                1 => (ci[0] as i64 - w.cell - 2, 4),
-                _ => (ci[0] as i64 + w.cell - 1, 4),
-            };
+            let (y, wrap, first, count) = sliding_row(ci[0], ci[1] as i64 + oy, ny, w.cell);
             for cx in first..first + count {
                 let wx = cx.rem_euclid(nx);
                 let mut shift = Vector::<D>::zeros();

@@ -12,6 +12,7 @@ use crate::SweepError;
 
 mod boundary;
 mod check;
+mod check_rule;
 mod check_scene;
 mod dup_keys;
 mod expand;
@@ -23,7 +24,7 @@ mod species;
 pub use crate::domain::{MAX_REPLICAS, MAX_SAMPLES};
 pub use boundary::BoundaryKind;
 
-pub use check::viscoelastic;
+pub use check_rule::viscoelastic;
 pub use expand::{aspect_label, ball_volume, close_packing, stable_hash, Density, Replica, Shard};
 pub use one_or_many::OneOrMany;
 pub use refinement::{RefineAxis, Refinement};
