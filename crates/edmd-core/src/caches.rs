@@ -24,6 +24,18 @@ pub fn look_ahead_threshold() -> usize {
     *THRESHOLD.get_or_init(|| threshold_for(l2_bytes()))
 }
 
+/// The four-wide list scan asks for its partners' records ahead only where the particle records
+/// outgrow the per-core L2 (where unknown, this fallback, 1 MiB): 3D φ 0.45 on a 2 MiB L2, the hints
+/// cost 5 % at N = 10 976 (0.7 MB of records) and gain 7 % at 97 556 (6.2 MB; docs/benchmarks.md,
+/// "The four-wide list scan").
+pub const PARTNER_HINTS_FALLBACK: usize = 1 << 20;
+
+/// Bytes of particle records above which list scans ask for their partners' records ahead.
+pub fn partner_hints_threshold() -> usize {
+    static THRESHOLD: OnceLock<usize> = OnceLock::new();
+    *THRESHOLD.get_or_init(|| l2_bytes().unwrap_or(PARTNER_HINTS_FALLBACK))
+}
+
 /// The threshold for an L2 of `l2` bytes (`None`: unknown).
 fn threshold_for(l2: Option<usize>) -> usize {
     l2.map_or(LOOK_AHEAD_FALLBACK, |b| {

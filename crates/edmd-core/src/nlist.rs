@@ -36,6 +36,12 @@ pub(crate) struct NeighbourLists<const D: usize> {
     mark: Vec<u32>,
     /// The stamp of the last renewal (even; the odd one above it marks "in both lists").
     stamp: u32,
+    /// Whether list scans test four partners at once (`sim/wide_scan.rs`): where the processor
+    /// can; [`Self::use_portable_scan`] turns it off.
+    pub wide: bool,
+    /// Whether a four-wide scan first asks for every partner's record: where the records outgrow
+    /// the L2 ([`crate::caches::partner_hints_threshold`]; the two-wide scan always does).
+    pub hint_partners: bool,
 }
 
 impl<const D: usize> NeighbourLists<D> {
@@ -53,7 +59,16 @@ impl<const D: usize> NeighbourLists<D> {
             fresh: Vec::new(),
             mark: vec![0; n],
             stamp: 0,
+            wide: crate::sim::wide_scan_available::<D>(n),
+            hint_partners: n * std::mem::size_of::<crate::Particle<D>>()
+                > crate::caches::partner_hints_threshold(),
         }
+    }
+
+    /// Scans lists two partners at a time on every processor (the x86-64 baseline), for comparing
+    /// the two scans.
+    pub fn use_portable_scan(&mut self) {
+        self.wide = false;
     }
 
     /// The neighbours of slot `i`.
@@ -61,6 +76,16 @@ impl<const D: usize> NeighbourLists<D> {
     pub fn of(&self, i: usize) -> &[u32] {
         let start = i * self.cap;
         &self.items[start..start + self.len[i] as usize]
+    }
+
+    /// The neighbours of slot `i` followed by the entries after them up to a multiple of four:
+    /// slots too (every entry of the storage is a slot, left by an earlier list where it is not
+    /// one of `i`'s now; the stride is a multiple of 16), for a four-wide scan that masks them off.
+    #[inline(always)]
+    pub fn of_padded(&self, i: usize) -> &[u32] {
+        let start = i * self.cap;
+        let len = (self.len[i] as usize + 3) & !3;
+        &self.items[start..start + len]
     }
 
     /// Asks for what a prediction of slot `i` reads of the lists: the first cache line of its list,

@@ -116,14 +116,34 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         best: (f64, u32),
         horizon: f64,
     ) -> (f64, u32) {
-        let list = nl.of(i);
-        // Ask for every partner's cache line at once: their loads then overlap.
-        for &j in list {
-            crate::prefetch::prefetch(&self.particles[j as usize]);
+        // Ask for every partner's cache line at once: their loads then overlap. (The four-wide
+        // scan's gathers overlap without it while the records fit the L2.)
+        if nl.hint_partners || !nl.wide {
+            for &j in nl.of(i) {
+                crate::prefetch::prefetch(&self.particles[j as usize]);
+            }
         }
-        if self.far_from_periodic_faces(nl, i) {
+        let far = self.far_from_periodic_faces(nl, i);
+        let sliding = !far && B::SHEARED && self.near_sliding_face(nl, i);
+        #[cfg(target_arch = "x86_64")]
+        if nl.wide {
+            // SAFETY: `nl.wide` is set only where `wide_scan_available` found AVX2 and the slots'
+            // offsets fit (`NeighbourLists::new`).
+            #[allow(unsafe_code)]
+            return unsafe {
+                if far {
+                    self.scan_list_wide::<false, false>(nl, i, best, horizon)
+                } else if sliding {
+                    self.scan_list_wide::<true, true>(nl, i, best, horizon)
+                } else {
+                    self.scan_list_wide::<true, false>(nl, i, best, horizon)
+                }
+            };
+        }
+        let list = nl.of(i);
+        if far {
             self.scan_list::<false, false>(list, i, best, horizon)
-        } else if B::SHEARED && self.near_sliding_face(nl, i) {
+        } else if sliding {
             self.scan_list::<true, true>(list, i, best, horizon)
         } else {
             self.scan_list::<true, false>(list, i, best, horizon)
@@ -247,7 +267,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     /// One partner `j` of the list scan: the test without the root, then the exact contact time,
     /// which replaces `best` (and tightens `limit`, relative to now) when it is earlier.
     #[inline(always)]
-    fn consider<const WRAP: bool>(
+    pub(super) fn consider<const WRAP: bool>(
         &self,
         pi: &crate::state::Particle<D>,
         pos_i: &Vector<D>,

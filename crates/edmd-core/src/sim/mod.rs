@@ -42,6 +42,7 @@ mod run;
 mod shear;
 mod shear_lists;
 mod upkeep;
+mod wide_scan;
 
 use collapse::CollapseMonitor;
 
@@ -50,6 +51,7 @@ pub use engine::Engine;
 pub use event::EventKind;
 pub use params::SimParams;
 pub use run::{RunEnd, Stop};
+pub(crate) use wide_scan::wide_scan_available;
 
 /// A particle's next event other than a collision, as the slot stores it: decoded once, where it
 /// is predicted, and matched once, where it is handled.

@@ -67,6 +67,20 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         self.look_ahead.on = on;
     }
 
+    /// Whether list scans test four partners at once (x86-64 processors with AVX2;
+    /// `sim/wide_scan.rs`).
+    pub fn wide_scan(&self) -> bool {
+        self.nl.as_ref().is_some_and(|nl| nl.wide)
+    }
+
+    /// Scans lists two partners at a time, as on any processor (tests, benchmarks): events and
+    /// trajectories are bit-identical either way.
+    pub fn use_portable_scan(&mut self) {
+        if let Some(nl) = &mut self.nl {
+            nl.use_portable_scan();
+        }
+    }
+
     /// Resets the event counters (not the clock), e.g. after equilibration.
     pub fn reset_counters(&mut self) {
         let events = self.counters.events;

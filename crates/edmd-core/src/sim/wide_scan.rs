@@ -1,0 +1,135 @@
+//! The list scan's cheap test four partners at a time, on x86-64 processors with AVX2 (chosen at
+//! run time: [`wide_scan_available`]).
+//!
+//! [`Simulation::scan_list`] tests partners two at a time in SSE2 registers, which the x86-64
+//! baseline guarantees; gathering each pair's seven numbers into lanes and unpacking them costs more
+//! instructions than the test itself (docs/benchmarks.md, "The 3D instruction budget by function").
+//! Here the partners' records are read by AVX2 gathers, one instruction per coordinate for four
+//! partners, and the test runs on four lanes. Every lane computes exactly the operations of the
+//! portable test, in the same order and without fused multiply-adds, so it keeps exactly the same
+//! partners; those go through the same exact test ([`Simulation::consider`]) one by one in list
+//! order. Trajectories are bit-identical to the portable scan's (`tests/engine/lists.rs`).
+
+#[cfg(target_arch = "x86_64")]
+use std::arch::x86_64::*;
+
+use super::Simulation;
+use crate::calendar::Calendar;
+use crate::nlist::NeighbourLists;
+use crate::state::Particle;
+use crate::{Boundary, CollisionRule};
+
+/// Whether this processor runs the four-wide scan, for `n` particles: AVX2, and every particle's
+/// last coordinate addressable by a gather's 32-bit index (over 2.6 · 10⁸ particles in 3D).
+pub(crate) fn wide_scan_available<const D: usize>(n: usize) -> bool {
+    let words = std::mem::size_of::<Particle<D>>() / 8;
+    let fits = n.checked_mul(words).is_some_and(|w| w < i32::MAX as usize);
+    #[cfg(target_arch = "x86_64")]
+    return fits && std::arch::is_x86_feature_detected!("avx2");
+    #[cfg(not(target_arch = "x86_64"))]
+    return {
+        let _ = fits;
+        false
+    };
+}
+
+#[cfg(target_arch = "x86_64")]
+impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B, R, C> {
+    /// [`Simulation::scan_list`] with the cheap test on four partners at once (module docs).
+    ///
+    /// # Safety
+    /// The processor must support AVX2, and `n` times the particle record's length in `f64` words
+    /// must fit an `i32` ([`wide_scan_available`]).
+    #[target_feature(enable = "avx2")]
+    #[allow(unsafe_code)]
+    pub(super) unsafe fn scan_list_wide<const WRAP: bool, const SHEAR: bool>(
+        &self,
+        nl: &NeighbourLists<D>,
+        i: usize,
+        mut best: (f64, u32),
+        horizon: f64,
+    ) -> (f64, u32) {
+        const LANES: usize = 4;
+        let now = self.now;
+        let pi = self.particles[i];
+        let pos_i = pi.r0 + pi.vel * now;
+        let vi2 = pi.vel.norm_squared();
+        let mut limit = (best.0 - now).min(horizon - now);
+        let words = (std::mem::size_of::<Particle<D>>() / 8) as i32;
+        let base = self.particles.as_ptr().cast::<f64>();
+        // Offsets, in words, of the fields of a record (`Particle` is `repr(C)`).
+        let (r0_at, vel_at, radius_at) = (0, D, 2 * D);
+        // SAFETY (all intrinsics below): AVX2 is enabled by the caller's contract; the gathers
+        // read fields of the records of the padded list's entries, all slots (below n, whose word
+        // offsets fit an i32 by the contract).
+        let now_v = _mm256_set1_pd(now);
+        let ri = _mm256_set1_pd(pi.radius);
+        let two = _mm256_set1_pd(2.0);
+        let margin = _mm256_set1_pd(1e-9);
+        let sign = _mm256_set1_pd(-0.0);
+        let zero = _mm256_setzero_pd();
+        let stride = _mm_set1_epi32(words);
+        // The last group's entries past the list's end are masked off.
+        let len = nl.of(i).len();
+        for (g, group) in nl.of_padded(i).chunks_exact(LANES).enumerate() {
+            let lanes = (len - g * LANES).min(LANES);
+            let slots = _mm_loadu_si128(group.as_ptr().cast::<__m128i>());
+            let at = _mm_mullo_epi32(slots, stride);
+            let mut b = zero;
+            let mut dr2 = zero;
+            let mut across = zero;
+            for a in 0..D {
+                let r0 = _mm256_i32gather_pd::<8>(base.add(r0_at + a), at);
+                let vel = _mm256_i32gather_pd::<8>(base.add(vel_at + a), at);
+                let pos = _mm256_add_pd(r0, _mm256_mul_pd(vel, now_v));
+                let own = _mm256_set1_pd(pos_i[a]);
+                let d = if WRAP && !B::is_wall(a) {
+                    // `image_near`: the shifted position minus the partner's.
+                    let raw = _mm256_sub_pd(own, pos);
+                    let half = _mm256_set1_pd(self.half_box[a]);
+                    if SHEAR && a == 1 {
+                        across = _mm256_cmp_pd::<_CMP_GT_OQ>(_mm256_andnot_pd(sign, raw), half);
+                    }
+                    let len = _mm256_set1_pd(self.box_len[a]);
+                    let up = _mm256_and_pd(_mm256_cmp_pd::<_CMP_GT_OQ>(raw, half), len);
+                    let minus_half = _mm256_set1_pd(-self.half_box[a]);
+                    let down = _mm256_and_pd(_mm256_cmp_pd::<_CMP_LT_OQ>(raw, minus_half), len);
+                    _mm256_sub_pd(_mm256_sub_pd(own, _mm256_sub_pd(up, down)), pos)
+                } else {
+                    _mm256_sub_pd(own, pos)
+                };
+                let dv = _mm256_sub_pd(_mm256_set1_pd(pi.vel[a]), vel);
+                if a == 0 {
+                    b = _mm256_mul_pd(d, dv);
+                    dr2 = _mm256_mul_pd(d, d);
+                } else {
+                    b = _mm256_add_pd(b, _mm256_mul_pd(d, dv));
+                    dr2 = _mm256_add_pd(dr2, _mm256_mul_pd(d, d));
+                }
+            }
+            let radius = _mm256_i32gather_pd::<8>(base.add(radius_at), at);
+            let sigma = _mm256_add_pd(ri, radius);
+            let room = _mm256_sub_pd(_mm256_mul_pd(sigma, sigma), dr2);
+            // `rootless_test`: b < 0 and room ≥ bound − 1e-9 |bound|, bound = 2 b limit.
+            let bound = _mm256_mul_pd(_mm256_mul_pd(two, b), _mm256_set1_pd(limit));
+            let slack = _mm256_mul_pd(margin, _mm256_andnot_pd(sign, bound));
+            let fits = _mm256_cmp_pd::<_CMP_GE_OQ>(room, _mm256_sub_pd(bound, slack));
+            let keep = _mm256_or_pd(
+                _mm256_and_pd(_mm256_cmp_pd::<_CMP_LT_OQ>(b, zero), fits),
+                across,
+            );
+            let mut kept = _mm256_movemask_pd(keep) as u32 & ((1 << lanes) - 1);
+            while kept != 0 {
+                let k = kept.trailing_zeros() as usize;
+                kept &= kept - 1;
+                let j = group[k];
+                if SHEAR {
+                    self.consider_sheared(&pi, &pos_i, j, &mut best, &mut limit);
+                } else {
+                    self.consider::<WRAP>(&pi, &pos_i, vi2, j, &mut best, &mut limit);
+                }
+            }
+        }
+        best
+    }
+}
