@@ -31,6 +31,8 @@ pub(crate) struct NeighbourLists<const D: usize> {
     items: Vec<u32>,
     /// The neighbours a renewal found, before they replace the old list.
     pub fresh: Vec<u32>,
+    /// The occupants of the cells a four-wide search tests, in the order it walks them.
+    pub candidates: Vec<u32>,
     /// Per slot, the renewal stamp that last marked it ([`Self::renew`]): membership in the old and
     /// the new list is read off it instead of searching one list for each entry of the other.
     mark: Vec<u32>,
@@ -57,6 +59,7 @@ impl<const D: usize> NeighbourLists<D> {
             len: vec![0; n],
             items: vec![0; n * cap],
             fresh: Vec::new(),
+            candidates: Vec::new(),
             mark: vec![0; n],
             stamp: 0,
             wide: crate::sim::wide_scan_available::<D>(n),
@@ -241,6 +244,7 @@ impl<const D: usize> NeighbourLists<D> {
         4 * (self.items.capacity()
             + self.len.capacity()
             + self.fresh.capacity()
+            + self.candidates.capacity()
             + self.mark.capacity())
             + self.centre.capacity() * std::mem::size_of::<Vector<D>>()
     }

@@ -5,6 +5,8 @@ use std::marker::PhantomData;
 
 use super::contact::image_near;
 use super::shear_lists::{wrapped_now_sheared, ShearWindow};
+#[cfg(target_arch = "x86_64")]
+use super::wide_scan::within_reach_wide;
 use super::{Lists, Meta, Simulation};
 use crate::calendar::Calendar;
 use crate::cells::{CellGrid, NONE};
@@ -19,7 +21,7 @@ const LANES: usize = 2;
 /// at t ≤ limit needs b < 0 and σ² − r² = 2bt + v²t² ≥ 2b·limit. A test without the root that
 /// rejects most partners, with a margin for round-off so that it never rejects one the root keeps.
 #[inline(always)]
-fn rootless_test(b: f64, room: f64, limit: f64) -> bool {
+pub(super) fn rootless_test(b: f64, room: f64, limit: f64) -> bool {
     let bound = 2.0 * b * limit;
     (b < 0.0) & (room >= bound - 1e-9 * bound.abs())
 }
@@ -460,6 +462,37 @@ impl<const D: usize> NeighbourLists<D> {
             nl.max_reach,
             nl.max_reach,
         );
+        #[cfg(target_arch = "x86_64")]
+        if nl.wide {
+            // The occupants in walking order, then the test on four at a time.
+            let mut candidates = std::mem::take(&mut nl.candidates);
+            candidates.clear();
+            for &first in &firsts[..count] {
+                let mut k = first;
+                while k != NONE {
+                    let j = k;
+                    k = particles[j as usize].next_in_cell;
+                    if j as usize != i && !(later_only && (j as usize) < i) {
+                        candidates.push(j);
+                    }
+                }
+            }
+            let len = candidates.len();
+            // Padded with slot `i` to whole groups; the test masks the padding off.
+            candidates.resize((len + 3) & !3, i as u32);
+            // SAFETY: `nl.wide` is set only where `wide_scan_available` found AVX2 and the slots'
+            // offsets fit; the candidates are slots.
+            #[allow(unsafe_code)]
+            unsafe {
+                if wrap {
+                    within_reach_wide::<D, B, true>(nl, space, &candidates, len, i, &mut found)
+                } else {
+                    within_reach_wide::<D, B, false>(nl, space, &candidates, len, i, &mut found)
+                }
+            }
+            nl.candidates = candidates;
+            return;
+        }
         for &first in &firsts[..count] {
             let mut k = first;
             while k != NONE {

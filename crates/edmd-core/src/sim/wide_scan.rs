@@ -13,9 +13,11 @@
 #[cfg(target_arch = "x86_64")]
 use std::arch::x86_64::*;
 
+use super::lists::{rootless_test, Space};
 use super::Simulation;
 use crate::calendar::Calendar;
 use crate::nlist::NeighbourLists;
+use crate::predict::APPROACH_TOLERANCE;
 use crate::state::Particle;
 use crate::{Boundary, CollisionRule};
 
@@ -78,6 +80,10 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             let mut b = zero;
             let mut dr2 = zero;
             let mut across = zero;
+            // Separation, relative velocity and the partner's velocity per axis, for the exact times.
+            let mut ds = [zero; D];
+            let mut dvs = [zero; D];
+            let mut vels = [zero; D];
             for a in 0..D {
                 let r0 = _mm256_i32gather_pd::<8>(base.add(r0_at + a), at);
                 let vel = _mm256_i32gather_pd::<8>(base.add(vel_at + a), at);
@@ -99,6 +105,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                     _mm256_sub_pd(own, pos)
                 };
                 let dv = _mm256_sub_pd(_mm256_set1_pd(pi.vel[a]), vel);
+                (ds[a], dvs[a], vels[a]) = (d, dv, vel);
                 if a == 0 {
                     b = _mm256_mul_pd(d, dv);
                     dr2 = _mm256_mul_pd(d, d);
@@ -119,17 +126,156 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                 across,
             );
             let mut kept = _mm256_movemask_pd(keep) as u32 & ((1 << lanes) - 1);
+            if kept == 0 {
+                continue;
+            }
+            if SHEAR {
+                while kept != 0 {
+                    let k = kept.trailing_zeros() as usize;
+                    kept &= kept - 1;
+                    self.consider_sheared(&pi, &pos_i, group[k], &mut best, &mut limit);
+                }
+                continue;
+            }
+            // The group's exact times on four lanes (`pair_time`'s operations), then, lane by
+            // lane in list order, the test and the update of `keep_if_earlier`.
+            let times = pair_times::<D>(&ds, &dvs, &vels, b, dr2, sigma, room, vi2);
+            let mut lane_b = [0.0; LANES];
+            let mut lane_room = [0.0; LANES];
+            let mut lane_t = [0.0; LANES];
+            _mm256_storeu_pd(lane_b.as_mut_ptr(), b);
+            _mm256_storeu_pd(lane_room.as_mut_ptr(), room);
+            _mm256_storeu_pd(lane_t.as_mut_ptr(), times);
             while kept != 0 {
                 let k = kept.trailing_zeros() as usize;
                 kept &= kept - 1;
-                let j = group[k];
-                if SHEAR {
-                    self.consider_sheared(&pi, &pos_i, j, &mut best, &mut limit);
-                } else {
-                    self.consider::<WRAP>(&pi, &pos_i, vi2, j, &mut best, &mut limit);
+                if rootless_test(lane_b[k], lane_room[k], limit) {
+                    let t = now + lane_t[k];
+                    if t < best.0 {
+                        best = (t, group[k]);
+                        limit = limit.min(t - now);
+                    }
                 }
             }
         }
         best
     }
+}
+
+/// The test of a list renewal's search on four candidates at once: hands `found`, in the order of
+/// `candidates[..len]`, each whose shell centre lies within `σ_ij + δ` of slot `i`'s (with nearest
+/// images if `WRAP`), by the operations of the one-by-one test (`NeighbourLists::gather`).
+///
+/// # Safety
+/// As [`Simulation::scan_list_wide`]; every entry of `candidates` is a slot, and its length is a
+/// multiple of four.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[allow(unsafe_code)]
+pub(super) unsafe fn within_reach_wide<const D: usize, B: Boundary, const WRAP: bool>(
+    nl: &mut NeighbourLists<D>,
+    space: &Space<'_, D, B>,
+    candidates: &[u32],
+    len: usize,
+    i: usize,
+    found: &mut impl FnMut(&mut NeighbourLists<D>, u32),
+) {
+    const LANES: usize = 4;
+    let centre = nl.centre[i];
+    let words = (std::mem::size_of::<Particle<D>>() / 8) as i32;
+    let records = space.particles.as_ptr().cast::<f64>();
+    // SAFETY (all intrinsics below): AVX2 by the contract; the gathers read the centres and the
+    // radii of slots (below n, whose word offsets fit an i32).
+    let ri = _mm256_set1_pd(space.particles[i].radius);
+    let skin = _mm256_set1_pd(nl.skin);
+    let stride = _mm_set1_epi32(words);
+    let centre_stride = _mm_set1_epi32(D as i32);
+    for (g, group) in candidates.chunks_exact(LANES).enumerate() {
+        let lanes = (len.saturating_sub(g * LANES)).min(LANES);
+        let slots = _mm_loadu_si128(group.as_ptr().cast::<__m128i>());
+        let at = _mm_mullo_epi32(slots, centre_stride);
+        // Taken anew for each group: `found` may change the lists (never the centres).
+        let centres = nl.centre.as_ptr().cast::<f64>();
+        let mut d2 = _mm256_setzero_pd();
+        for a in 0..D {
+            let cj = _mm256_i32gather_pd::<8>(centres.add(a), at);
+            let own = _mm256_set1_pd(centre[a]);
+            let d = if WRAP && !B::is_wall(a) {
+                // `image_near` of the centre, minus the candidate's.
+                let raw = _mm256_sub_pd(own, cj);
+                let half = _mm256_set1_pd(space.half_box[a]);
+                let len = _mm256_set1_pd(space.box_len[a]);
+                let up = _mm256_and_pd(_mm256_cmp_pd::<_CMP_GT_OQ>(raw, half), len);
+                let minus_half = _mm256_set1_pd(-space.half_box[a]);
+                let down = _mm256_and_pd(_mm256_cmp_pd::<_CMP_LT_OQ>(raw, minus_half), len);
+                _mm256_sub_pd(_mm256_sub_pd(own, _mm256_sub_pd(up, down)), cj)
+            } else {
+                _mm256_sub_pd(own, cj)
+            };
+            d2 = if a == 0 {
+                _mm256_mul_pd(d, d)
+            } else {
+                _mm256_add_pd(d2, _mm256_mul_pd(d, d))
+            };
+        }
+        let radius = _mm256_i32gather_pd::<8>(records.add(2 * D), _mm_mullo_epi32(slots, stride));
+        let reach = _mm256_add_pd(_mm256_add_pd(ri, radius), skin);
+        let near = _mm256_cmp_pd::<_CMP_LT_OQ>(d2, _mm256_mul_pd(reach, reach));
+        let mut kept = _mm256_movemask_pd(near) as u32 & ((1 << lanes) - 1);
+        while kept != 0 {
+            let k = kept.trailing_zeros() as usize;
+            kept &= kept - 1;
+            found(nl, group[k]);
+        }
+    }
+}
+
+/// [`pair_time`](crate::predict::pair_time) on four lanes, by its operations in its order: the
+/// separations `ds`, relative velocities `dvs` and partner velocities `vels` per axis, `b = r·v`,
+/// `dr2 = |r|²`, the contact distances `sigma`, `room = σ² − |r|²` and the own speed squared `vi2`.
+///
+/// # Safety
+/// The processor must support AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[allow(unsafe_code, clippy::too_many_arguments)]
+#[inline]
+unsafe fn pair_times<const D: usize>(
+    ds: &[__m256d; D],
+    dvs: &[__m256d; D],
+    vels: &[__m256d; D],
+    b: __m256d,
+    dr2: __m256d,
+    sigma: __m256d,
+    room: __m256d,
+    vi2: f64,
+) -> __m256d {
+    let zero = _mm256_setzero_pd();
+    // c = |r|² − σ², the negative of `room` (both from the same σ²).
+    let c = _mm256_sub_pd(zero, room);
+    let mut cross2 = zero;
+    let mut dv2 = zero;
+    let mut vj2 = zero;
+    for a in 0..D {
+        for k in a + 1..D {
+            let w = _mm256_sub_pd(_mm256_mul_pd(ds[a], dvs[k]), _mm256_mul_pd(ds[k], dvs[a]));
+            cross2 = _mm256_add_pd(cross2, _mm256_mul_pd(w, w));
+        }
+        dv2 = _mm256_add_pd(dv2, _mm256_mul_pd(dvs[a], dvs[a]));
+        vj2 = _mm256_add_pd(vj2, _mm256_mul_pd(vels[a], vels[a]));
+    }
+    let disc = _mm256_sub_pd(_mm256_mul_pd(_mm256_mul_pd(dv2, sigma), sigma), cross2);
+    let root = _mm256_sqrt_pd(_mm256_max_pd(disc, zero));
+    let t = _mm256_div_pd(c, _mm256_sub_pd(root, b));
+    let t = _mm256_blendv_pd(t, zero, _mm256_cmp_pd::<_CMP_LE_OQ>(c, zero));
+    // `approaching(b, dr2, speed2)` and a real root.
+    let speed2 = _mm256_add_pd(_mm256_set1_pd(vi2), vj2);
+    let tol2 = _mm256_set1_pd(APPROACH_TOLERANCE * APPROACH_TOLERANCE);
+    let slow = _mm256_mul_pd(_mm256_mul_pd(tol2, dr2), speed2);
+    let approach = _mm256_and_pd(
+        _mm256_cmp_pd::<_CMP_LT_OQ>(b, zero),
+        _mm256_cmp_pd::<_CMP_GT_OQ>(_mm256_mul_pd(b, b), slow),
+    );
+    let hit = _mm256_and_pd(approach, _mm256_cmp_pd::<_CMP_GT_OQ>(disc, zero));
+    _mm256_blendv_pd(_mm256_set1_pd(f64::INFINITY), t, hit)
 }
