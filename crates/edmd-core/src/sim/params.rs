@@ -129,9 +129,12 @@ impl SimParams {
         let per_cell_volume = crate::geometry::ball_volume(D, 0.5);
         let side = (0.4 * per_cell_volume / phi.max(1e-12)).powf(1.0 / D as f64);
         // Neighbour lists pay in dense 3D packings (measured at N = 10^4 with examples/profile, skin
-        // 0.45 against cells: φ = 0.35 1.00×, 0.4 1.12×, 0.45 1.4×, 0.5 1.65×; skins 0.35-0.5 within
-        // 3 % of each other). In 2D, cells win up to φ = 0.5 and lists gain at most ~10 % at 0.7-0.75.
-        let neighbour_skin = if D == 3 && phi >= 0.38 { 0.45 } else { 0.0 };
+        // 0.45 against cells: φ = 0.35 1.00×, 0.4 1.12×, 0.45 1.4×, 0.5 1.65×). In 2D, cells win up
+        // to φ = 0.5 and lists gain at most ~10 % at 0.7-0.75. The skin: with the four-wide scans a
+        // partner costs less than a renewal's gather, and 0.65 takes the fewest instructions per
+        // collision (3D φ 0.45: 13 % fewer than 0.45 at N = 10 976, 8.5 % at 97 556; 0.55 and 0.75
+        // between; docs/benchmarks.md, "The four-wide list scan").
+        let neighbour_skin = if D == 3 && phi >= 0.38 { 0.65 } else { 0.0 };
         SimParams {
             cell_factor: side.max(1.0),
             neighbour_skin,
