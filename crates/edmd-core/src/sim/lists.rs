@@ -17,13 +17,14 @@ use crate::{Boundary, CollisionRule, Particle, Vector};
 /// Partners per group of the list scan's cheap test (two SSE2 registers of `f64`).
 const LANES: usize = 2;
 
-/// Whether a pair with `b = r·v` and `room = σ² − |r|²` may touch within `limit` of now: a contact
-/// at t ≤ limit needs b < 0 and σ² − r² = 2bt + v²t² ≥ 2b·limit. A test without the root that
-/// rejects most partners, with a margin for round-off so that it never rejects one the root keeps.
+/// Whether a pair with `b = r·v` and `room = σ² − |r|²` may touch within `limit` (≥ 0) of now: a
+/// contact at t ≤ limit needs b < 0 and σ² − r² = 2bt + v²t² ≥ 2b·limit. A test without the root
+/// that rejects most partners, with a margin for round-off so that it never rejects one the root
+/// keeps (the bound is ≤ 0 wherever b < 0, so the margin widens it by a factor).
 #[inline(always)]
 pub(super) fn rootless_test(b: f64, room: f64, limit: f64) -> bool {
     let bound = 2.0 * b * limit;
-    (b < 0.0) & (room >= bound - 1e-9 * bound.abs())
+    (b < 0.0) & (room >= bound * (1.0 + 1e-9))
 }
 
 impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B, R, C> {

@@ -67,14 +67,15 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         let now_v = _mm256_set1_pd(now);
         let ri = _mm256_set1_pd(pi.radius);
         let two = _mm256_set1_pd(2.0);
-        let margin = _mm256_set1_pd(1e-9);
+        let margin = _mm256_set1_pd(1.0 + 1e-9);
         let sign = _mm256_set1_pd(-0.0);
         let zero = _mm256_setzero_pd();
         let stride = _mm_set1_epi32(words);
         // The last group's entries past the list's end are masked off.
         let len = nl.of(i).len();
+        let (whole, tail) = (len / LANES, (1u32 << (len % LANES)) - 1);
         for (g, group) in nl.of_padded(i).chunks_exact(LANES).enumerate() {
-            let lanes = (len - g * LANES).min(LANES);
+            let lanes = if g < whole { 0b1111 } else { tail };
             let slots = _mm_loadu_si128(group.as_ptr().cast::<__m128i>());
             let at = _mm_mullo_epi32(slots, stride);
             let mut b = zero;
@@ -117,15 +118,14 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             let radius = _mm256_i32gather_pd::<8>(base.add(radius_at), at);
             let sigma = _mm256_add_pd(ri, radius);
             let room = _mm256_sub_pd(_mm256_mul_pd(sigma, sigma), dr2);
-            // `rootless_test`: b < 0 and room ≥ bound − 1e-9 |bound|, bound = 2 b limit.
+            // `rootless_test`: b < 0 and room ≥ 2 b limit (1 + 1e-9).
             let bound = _mm256_mul_pd(_mm256_mul_pd(two, b), _mm256_set1_pd(limit));
-            let slack = _mm256_mul_pd(margin, _mm256_andnot_pd(sign, bound));
-            let fits = _mm256_cmp_pd::<_CMP_GE_OQ>(room, _mm256_sub_pd(bound, slack));
+            let fits = _mm256_cmp_pd::<_CMP_GE_OQ>(room, _mm256_mul_pd(bound, margin));
             let keep = _mm256_or_pd(
                 _mm256_and_pd(_mm256_cmp_pd::<_CMP_LT_OQ>(b, zero), fits),
                 across,
             );
-            let mut kept = _mm256_movemask_pd(keep) as u32 & ((1 << lanes) - 1);
+            let mut kept = _mm256_movemask_pd(keep) as u32 & lanes;
             if kept == 0 {
                 continue;
             }
@@ -190,8 +190,9 @@ pub(super) unsafe fn within_reach_wide<const D: usize, B: Boundary, const WRAP: 
     let skin = _mm256_set1_pd(nl.skin);
     let stride = _mm_set1_epi32(words);
     let centre_stride = _mm_set1_epi32(D as i32);
+    let (whole, tail) = (len / LANES, (1u32 << (len % LANES)) - 1);
     for (g, group) in candidates.chunks_exact(LANES).enumerate() {
-        let lanes = (len.saturating_sub(g * LANES)).min(LANES);
+        let lanes = if g < whole { 0b1111 } else { tail };
         let slots = _mm_loadu_si128(group.as_ptr().cast::<__m128i>());
         let at = _mm_mullo_epi32(slots, centre_stride);
         // Taken anew for each group: `found` may change the lists (never the centres).
@@ -221,7 +222,7 @@ pub(super) unsafe fn within_reach_wide<const D: usize, B: Boundary, const WRAP: 
         let radius = _mm256_i32gather_pd::<8>(records.add(2 * D), _mm_mullo_epi32(slots, stride));
         let reach = _mm256_add_pd(_mm256_add_pd(ri, radius), skin);
         let near = _mm256_cmp_pd::<_CMP_LT_OQ>(d2, _mm256_mul_pd(reach, reach));
-        let mut kept = _mm256_movemask_pd(near) as u32 & ((1 << lanes) - 1);
+        let mut kept = _mm256_movemask_pd(near) as u32 & lanes;
         while kept != 0 {
             let k = kept.trailing_zeros() as usize;
             kept &= kept - 1;
