@@ -111,11 +111,15 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             if next != NONE {
                 crate::prefetch::prefetch(&self.particles[next as usize]);
             }
-            let dr = ri - (pk.r0 + pk.vel * now);
-            let dv = pi.vel - pk.vel;
-            let t = now + pair_time(&dr, &dv, pi.radius + pk.radius, vi2 + pk.vel.norm_squared());
-            if t < best.0 && k as usize != i {
-                best = (t, k);
+            // The particle itself (in its own cell of a full search) is no partner.
+            if k as usize != i {
+                let dr = ri - (pk.r0 + pk.vel * now);
+                let dv = pi.vel - pk.vel;
+                let t =
+                    now + pair_time(&dr, &dv, pi.radius + pk.radius, vi2 + pk.vel.norm_squared());
+                if t < best.0 {
+                    best = (t, k);
+                }
             }
             k = next;
         }
