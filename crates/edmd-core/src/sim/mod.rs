@@ -34,6 +34,7 @@ mod cooling;
 mod engine;
 mod event;
 mod hints;
+mod list_gather;
 mod lists;
 mod look_ahead;
 mod params;

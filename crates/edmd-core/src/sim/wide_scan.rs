@@ -13,7 +13,8 @@
 #[cfg(target_arch = "x86_64")]
 use std::arch::x86_64::*;
 
-use super::lists::{rootless_test, Space};
+use super::list_gather::Space;
+use super::lists::rootless_test;
 use super::Simulation;
 use crate::calendar::Calendar;
 use crate::nlist::NeighbourLists;
@@ -91,17 +92,12 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                 let pos = _mm256_add_pd(r0, _mm256_mul_pd(vel, now_v));
                 let own = _mm256_set1_pd(pos_i[a]);
                 let d = if WRAP && !B::is_wall(a) {
-                    // `image_near`: the shifted position minus the partner's.
-                    let raw = _mm256_sub_pd(own, pos);
-                    let half = _mm256_set1_pd(self.half_box[a]);
                     if SHEAR && a == 1 {
-                        across = _mm256_cmp_pd::<_CMP_GT_OQ>(_mm256_andnot_pd(sign, raw), half);
+                        let raw = _mm256_andnot_pd(sign, _mm256_sub_pd(own, pos));
+                        let half = _mm256_set1_pd(self.half_box[a]);
+                        across = _mm256_cmp_pd::<_CMP_GT_OQ>(raw, half);
                     }
-                    let len = _mm256_set1_pd(self.box_len[a]);
-                    let up = _mm256_and_pd(_mm256_cmp_pd::<_CMP_GT_OQ>(raw, half), len);
-                    let minus_half = _mm256_set1_pd(-self.half_box[a]);
-                    let down = _mm256_and_pd(_mm256_cmp_pd::<_CMP_LT_OQ>(raw, minus_half), len);
-                    _mm256_sub_pd(_mm256_sub_pd(own, _mm256_sub_pd(up, down)), pos)
+                    nearest_separation(own, pos, self.half_box[a], self.box_len[a])
                 } else {
                     _mm256_sub_pd(own, pos)
                 };
@@ -202,14 +198,7 @@ pub(super) unsafe fn within_reach_wide<const D: usize, B: Boundary, const WRAP: 
             let cj = _mm256_i32gather_pd::<8>(centres.add(a), at);
             let own = _mm256_set1_pd(centre[a]);
             let d = if WRAP && !B::is_wall(a) {
-                // `image_near` of the centre, minus the candidate's.
-                let raw = _mm256_sub_pd(own, cj);
-                let half = _mm256_set1_pd(space.half_box[a]);
-                let len = _mm256_set1_pd(space.box_len[a]);
-                let up = _mm256_and_pd(_mm256_cmp_pd::<_CMP_GT_OQ>(raw, half), len);
-                let minus_half = _mm256_set1_pd(-space.half_box[a]);
-                let down = _mm256_and_pd(_mm256_cmp_pd::<_CMP_LT_OQ>(raw, minus_half), len);
-                _mm256_sub_pd(_mm256_sub_pd(own, _mm256_sub_pd(up, down)), cj)
+                nearest_separation(own, cj, space.half_box[a], space.box_len[a])
             } else {
                 _mm256_sub_pd(own, cj)
             };
@@ -279,4 +268,22 @@ unsafe fn pair_times<const D: usize>(
     );
     let hit = _mm256_and_pd(approach, _mm256_cmp_pd::<_CMP_GT_OQ>(disc, zero));
     _mm256_blendv_pd(_mm256_set1_pd(f64::INFINITY), t, hit)
+}
+
+/// `image_near(own, other) − other` along one periodic axis of side `len` on four lanes: `own`
+/// moved by `len` towards `other` where they lie more than `half` apart, minus `other`, by the
+/// operations of `image_near` (`own − (up − down)` is `own − len`, `own + len` or `own` exactly).
+///
+/// # Safety
+/// The processor must support AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[allow(unsafe_code)]
+#[inline]
+unsafe fn nearest_separation(own: __m256d, other: __m256d, half: f64, len: f64) -> __m256d {
+    let raw = _mm256_sub_pd(own, other);
+    let len = _mm256_set1_pd(len);
+    let up = _mm256_and_pd(_mm256_cmp_pd::<_CMP_GT_OQ>(raw, _mm256_set1_pd(half)), len);
+    let down = _mm256_and_pd(_mm256_cmp_pd::<_CMP_LT_OQ>(raw, _mm256_set1_pd(-half)), len);
+    _mm256_sub_pd(_mm256_sub_pd(own, _mm256_sub_pd(up, down)), other)
 }

@@ -1,0 +1,158 @@
+//! List mode's search around a shell centre: the particles whose centres lie within reach, found
+//! in the cells around it (list builds and renewals, `sim/lists.rs`).
+
+use std::marker::PhantomData;
+
+use super::contact::image_near;
+use super::lists::centre_far_from_periodic_faces;
+#[cfg(target_arch = "x86_64")]
+use super::wide_scan::within_reach_wide;
+use crate::cells::{CellGrid, NONE};
+use crate::nlist::NeighbourLists;
+use crate::{Boundary, Particle, Vector};
+
+/// What [`NeighbourLists::gather`] reads of the simulation.
+pub(super) struct Space<'a, const D: usize, B> {
+    pub(super) particles: &'a [Particle<D>],
+    pub(super) grid: &'a CellGrid<D>,
+    pub(super) box_len: &'a Vector<D>,
+    pub(super) half_box: &'a Vector<D>,
+    pub(super) _boundary: PhantomData<B>,
+}
+
+impl<const D: usize> NeighbourLists<D> {
+    /// Hands `found` every particle whose shell centre lies within `σ + δ` of slot `i`'s, found in
+    /// the 3^D cells around `i`'s cell; with `later_only`, only slots above `i` (full builds). `ci` is `i`'s cell.
+    #[inline(always)]
+    pub(super) fn gather<B: Boundary>(
+        &mut self,
+        space: &Space<'_, D, B>,
+        ci: &[u32; D],
+        i: usize,
+        later_only: bool,
+        mut found: impl FnMut(&mut Self, u32),
+    ) {
+        let nl = self;
+        let (particles, grid) = (space.particles, space.grid);
+        let ci = *ci;
+        let centre = nl.centre[i];
+        let ri = particles[i].radius;
+        // Squared distance from the centre to the lower and upper face of its cell, per axis: a
+        // neighbour cell farther than the largest reach cannot hold a neighbour (in 3D about a
+        // quarter of the 27, mostly corners, for a centre anywhere in its cell).
+        let mut face2 = [[0.0; 3]; D];
+        for a in 0..D {
+            let lo = ci[a] as f64 * grid.side[a];
+            face2[a][0] = (centre[a] - lo).powi(2);
+            face2[a][2] = (lo + grid.side[a] - centre[a]).powi(2);
+        }
+        let far = nl.max_reach * nl.max_reach * (1.0 + 1e-9);
+        // The squared distance to each neighbour cell, by its code Σ_a digit_a 3^a (the order of
+        // `grid.full`), built axis by axis in place: entry k of the first 3^a expands into
+        // k + digit·3^a (higher k first, so that no entry is overwritten before it is read).
+        let mut cell_d2 = [0.0f64; 27];
+        let mut filled = 1;
+        for f in &face2 {
+            for k in (0..filled).rev() {
+                let base = cell_d2[k];
+                for (digit, face) in f.iter().enumerate() {
+                    cell_d2[digit * filled + k] = base + face;
+                }
+            }
+            filled *= 3;
+        }
+        let out_of_reach = |code: usize| cell_d2[code] > far;
+        // The first member of each neighbour cell, all loads started before any list is walked.
+        let mut firsts = [NONE; 27];
+        let mut count = 0;
+        if grid.is_interior(&ci) {
+            let c = grid.index(&ci) as isize;
+            for (code, &o) in grid.full.iter().enumerate() {
+                if out_of_reach(code) {
+                    continue;
+                }
+                firsts[count] = grid.first((c + o) as usize);
+                count += 1;
+            }
+        } else {
+            let cells = grid.neighbours(&ci, B::is_wall);
+            for (code, &idx) in cells[..3usize.pow(D as u32)].iter().enumerate() {
+                if out_of_reach(code) || idx == usize::MAX {
+                    continue;
+                }
+                firsts[count] = grid.first(idx);
+                count += 1;
+            }
+        }
+        for &k in &firsts[..count] {
+            if k != NONE {
+                crate::prefetch::prefetch(&particles[k as usize]);
+                crate::prefetch::prefetch(&nl.centre[k as usize]);
+            }
+        }
+        // Centres farther than the reach from every periodic face have no neighbour across one.
+        let wrap = !centre_far_from_periodic_faces::<D, B>(
+            space.box_len,
+            space.half_box,
+            &centre,
+            nl.max_reach,
+            nl.max_reach,
+        );
+        #[cfg(target_arch = "x86_64")]
+        if nl.wide {
+            // The occupants in walking order, then the test on four at a time.
+            let mut candidates = std::mem::take(&mut nl.candidates);
+            candidates.clear();
+            for &first in &firsts[..count] {
+                let mut k = first;
+                while k != NONE {
+                    let j = k;
+                    k = particles[j as usize].next_in_cell;
+                    if j as usize != i && !(later_only && (j as usize) < i) {
+                        candidates.push(j);
+                    }
+                }
+            }
+            let len = candidates.len();
+            // Padded with slot `i` to whole groups; the test masks the padding off.
+            candidates.resize((len + 3) & !3, i as u32);
+            // SAFETY: `nl.wide` is set only where `wide_scan_available` found AVX2 and the slots'
+            // offsets fit; the candidates are slots.
+            #[allow(unsafe_code)]
+            unsafe {
+                if wrap {
+                    within_reach_wide::<D, B, true>(nl, space, &candidates, len, i, &mut found)
+                } else {
+                    within_reach_wide::<D, B, false>(nl, space, &candidates, len, i, &mut found)
+                }
+            }
+            nl.candidates = candidates;
+            return;
+        }
+        for &first in &firsts[..count] {
+            let mut k = first;
+            while k != NONE {
+                let j = k as usize;
+                let pj = &particles[j];
+                k = pj.next_in_cell;
+                if k != NONE {
+                    crate::prefetch::prefetch(&particles[k as usize]);
+                    crate::prefetch::prefetch(&nl.centre[k as usize]);
+                }
+                if j == i || (later_only && j < i) {
+                    continue;
+                }
+                let d = if wrap {
+                    image_near::<D, B>(space.box_len, space.half_box, &centre, &nl.centre[j])
+                        - nl.centre[j]
+                } else {
+                    centre - nl.centre[j]
+                };
+                let reach = ri + pj.radius + nl.skin;
+                if d.norm_squared() < reach * reach {
+                    found(nl, j as u32);
+                }
+            }
+        }
+    }
+}
