@@ -50,6 +50,8 @@ struct Case {
     shear_rate: f64,
     /// The calendar look-ahead forced on or off (`None`: the engine's own choice).
     look_ahead: Option<bool>,
+    /// The searches of the x86-64 baseline even where AVX2 would run four lanes.
+    portable: bool,
 }
 
 struct Outcome {
@@ -81,6 +83,9 @@ fn measure<const D: usize, B: Boundary>(
     let mut sim = p.build::<B, _>(rule).map_err(|e| e.to_string())?;
     if let Some(on) = case.look_ahead {
         sim.set_look_ahead(on);
+    }
+    if case.portable {
+        sim.use_portable_scan();
     }
     let mut rates = Vec::new();
     let (mut collisions, mut total) = (0, 0.0);
@@ -170,6 +175,10 @@ struct Args {
     /// engine's choice by the state's size), `on` or `off`, to measure where it pays.
     #[arg(long, default_value = "auto", value_parser = ["auto", "on", "off"])]
     look_ahead: String,
+    /// Search two partners at a time, as on any x86-64 processor, even where AVX2 would test four
+    /// (the same events; to measure what the four-wide searches save).
+    #[arg(long)]
+    portable_scan: bool,
     /// Print one JSON object instead of the text lines.
     #[arg(long)]
     json: bool,
@@ -243,6 +252,7 @@ fn real_main(args: Args) -> Result<(), String> {
                         eps: 1.0,
                         shear_rate: args.shear_rate,
                         look_ahead,
+                        portable: args.portable_scan,
                     };
                     let o = run_case(&case, repeats, per, melt_tau)?;
                     println!(
@@ -264,6 +274,7 @@ fn real_main(args: Args) -> Result<(), String> {
         eps: args.eps,
         shear_rate: args.shear_rate,
         look_ahead,
+        portable: args.portable_scan,
     };
     let o = run_case(&case, repeats, per, melt_tau)?;
     if args.json {
