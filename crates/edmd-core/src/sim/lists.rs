@@ -126,29 +126,27 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         }
         let far = self.far_from_periodic_faces(nl, i);
         let sliding = !far && B::SHEARED && self.near_sliding_face(nl, i);
+        // The scan's variant: (WRAP, SHEAR) = no images far from the faces, sliding images near a
+        // sliding face, periodic images elsewhere.
+        macro_rules! variant {
+            ($scan:ident, $list:expr) => {
+                if far {
+                    self.$scan::<false, false>($list, i, best, horizon)
+                } else if sliding {
+                    self.$scan::<true, true>($list, i, best, horizon)
+                } else {
+                    self.$scan::<true, false>($list, i, best, horizon)
+                }
+            };
+        }
         #[cfg(target_arch = "x86_64")]
         if nl.wide {
             // SAFETY: `nl.wide` is set only where `wide_scan_available` found AVX2 and the slots'
             // offsets fit (`NeighbourLists::new`).
             #[allow(unsafe_code)]
-            return unsafe {
-                if far {
-                    self.scan_list_wide::<false, false>(nl, i, best, horizon)
-                } else if sliding {
-                    self.scan_list_wide::<true, true>(nl, i, best, horizon)
-                } else {
-                    self.scan_list_wide::<true, false>(nl, i, best, horizon)
-                }
-            };
+            return unsafe { variant!(scan_list_wide, nl) };
         }
-        let list = nl.of(i);
-        if far {
-            self.scan_list::<false, false>(list, i, best, horizon)
-        } else if sliding {
-            self.scan_list::<true, true>(list, i, best, horizon)
-        } else {
-            self.scan_list::<true, false>(list, i, best, horizon)
-        }
+        variant!(scan_list, nl.of(i))
     }
 
     /// Whether no listed partner of `i` can need a periodic image: its shell centre lies farther
