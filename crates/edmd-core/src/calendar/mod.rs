@@ -153,6 +153,10 @@ impl Standalone<PaulCalendar> {
     pub fn defer_filings(&mut self, on: bool) {
         self.calendar.defer_filings(&mut self.entries, on);
     }
+    /// [`PaulCalendar::defers_filings`].
+    pub fn defers_filings(&self) -> bool {
+        self.calendar.defers_filings()
+    }
 }
 
 #[inline(always)]

@@ -161,3 +161,19 @@ fn ahead_names_particles_of_that_bucket() {
     }
     assert!(named > 5000, "the hint named only {named} particles");
 }
+
+/// Filings are deferred by default only where the buckets and the records outgrow the L2: a
+/// calendar of 64 particles (2 KiB of buckets and entries) files at once, one of 2²⁰ (48 MiB, more
+/// than any per-core L2) defers; an explicit setting holds through a reset.
+#[test]
+fn deferral_follows_the_size_unless_set() {
+    let mut small = Standalone::<PaulCalendar>::with_capacity(64);
+    small.reset(0.0, 1.0);
+    assert!(!small.defers_filings());
+    let mut large = Standalone::<PaulCalendar>::with_capacity(1 << 20);
+    large.reset(0.0, 1.0);
+    assert!(large.defers_filings());
+    small.defer_filings(true);
+    small.reset(0.0, 1.0);
+    assert!(small.defers_filings());
+}

@@ -51,6 +51,9 @@ pub struct PaulCalendar {
     loads: u32,
     /// Whether bucket filings are deferred ([`PaulCalendar::defer_filings`]).
     defer: bool,
+    /// Whether [`Calendar::reset`] sets `defer` by the size of the buckets and records (until
+    /// [`PaulCalendar::defer_filings`] sets it).
+    defer_by_size: bool,
     origin: f64,
     width: f64,
     inv_width: f64,
@@ -300,13 +303,21 @@ impl PaulCalendar {
         }
     }
 
-    /// Lets filings into later buckets wait until their bucket line has arrived (on by default):
-    /// a setting that changes no pop (the tests compare both).
+    /// Lets filings into later buckets wait until their bucket line has arrived: a setting that
+    /// changes no pop (the tests compare both). By default it is on where the buckets and the
+    /// particles' records outgrow the L2 ([`crate::caches::calendar_deferral_threshold`]), set at
+    /// every [`Calendar::reset`]; this call fixes it.
     pub fn defer_filings<E: HasEntry>(&mut self, e: &mut [E], on: bool) {
         if !on {
             self.link_deferred(e);
         }
         self.defer = on;
+        self.defer_by_size = false;
+    }
+
+    /// Whether filings are deferred now.
+    pub fn defers_filings(&self) -> bool {
+        self.defer
     }
 }
 
@@ -326,7 +337,8 @@ impl Calendar for PaulCalendar {
             heap: Vec::with_capacity(64),
             deferred: Vec::with_capacity(DEFER),
             loads: 0,
-            defer: true,
+            defer: false,
+            defer_by_size: true,
             origin: 0.0,
             width: 1.0,
             inv_width: 1.0,
@@ -416,6 +428,10 @@ impl Calendar for PaulCalendar {
         self.overflow.clear();
         self.heap.clear();
         self.deferred.clear();
+        if self.defer_by_size {
+            let bytes = self.nb * std::mem::size_of::<Bucket>() + std::mem::size_of_val(e);
+            self.defer = bytes > crate::caches::calendar_deferral_threshold();
+        }
         self.origin = origin;
         self.width = width;
         self.inv_width = 1.0 / width;
