@@ -1,12 +1,14 @@
 //! Event calendars: one pending event per particle, earliest first.
 //!
 //! [`PaulCalendar`] follows G. Paul, J. Comput. Phys. 221, 615 (2007): time is cut into buckets of a
-//! fixed width; the current bucket is a small indexed binary heap, the next `M` buckets are unsorted
-//! (up to six entries in place, in half a cache line, and a spill list beyond: O(1) insert and
-//! remove that touch only the bucket and the particle's own entry), and everything later waits in an
-//! unordered overflow array that is redistributed once per cycle of `M` buckets. With a width of a
-//! few mean inter-event times the heap stays a handful of entries long, so every operation is O(1)
-//! amortised.
+//! fixed width; the current bucket is a short array sorted latest first (a pop takes the last
+//! entry, a filing shifts the later ones up), the next `M` buckets are unsorted (up to six entries
+//! in place, in half a cache line, and a spill list beyond: O(1) insert and remove that touch only
+//! the bucket and the particle's own entry), and everything later waits in an unordered overflow
+//! array that is redistributed once per cycle of `M` buckets. With a width of a few mean
+//! inter-event times the current bucket holds a handful of entries, so every operation is O(1)
+//! amortised; a current bucket crowded past 64 entries (a width far too wide for the event rate)
+//! makes the calendar narrow its buckets itself.
 //!
 //! [`HeapCalendar`] is a plain `BinaryHeap` with lazy deletion. It has the same API and exists as a
 //! test oracle and as the benchmark baseline.
@@ -27,7 +29,7 @@ pub struct Entry {
     time: f64,
     /// The next entry of its bucket's spill list.
     next: u32,
-    /// `NONE`, `IN_HEAP | heap position`, `IN_OVERFLOW | overflow position`, `DEFERRED |
+    /// `NONE`, `IN_CURRENT` (in the current bucket), `IN_OVERFLOW | overflow position`, `DEFERRED |
     /// position among the deferred filings`, or a bucket index (Paul calendar).
     loc: u32,
 }

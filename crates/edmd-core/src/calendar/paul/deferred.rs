@@ -10,7 +10,7 @@ impl PaulCalendar {
         e[i as usize].entry_mut().time = t;
         let k = self.bucket_of(t) - self.cur;
         if k <= 0 {
-            self.heap_push(e, t, i);
+            self.current_push(e, t, i);
         } else if (k as u64) < self.nb as u64 {
             let b = ((self.cur + k) as u64 as usize) & (self.nb - 1);
             if !self.defer {

@@ -2,17 +2,25 @@
 
 use super::{earlier, Calendar, Entry, HasEntry, Hints};
 
+mod current;
 mod deferred;
 
 const NONE: u32 = u32::MAX;
-const IN_HEAP: u32 = 1 << 31;
+const IN_CURRENT: u32 = 1 << 31;
 const IN_OVERFLOW: u32 = 1 << 30;
 /// Filed in a bucket, but not yet linked into it (see [`PaulCalendar::deferred`]).
-const DEFERRED: u32 = IN_HEAP | IN_OVERFLOW;
+const DEFERRED: u32 = IN_CURRENT | IN_OVERFLOW;
 /// Filings held back at most before they are all linked at once.
 const DEFER: usize = 32;
 /// Entries a bucket holds in its own cache-line half; more spill into a list through the entries.
 const INLINE: usize = 6;
+/// Entries of the current bucket beyond which the buckets are narrowed (a width far too wide for
+/// the event rate): sorted filing costs a shift per later entry, which a few entries make cheaper
+/// than a heap's moves, and many would make dear (`PaulCalendar::narrow`).
+const CROWDED: usize = 64;
+/// Entries of the current bucket up to which a filing shifts the later ones one by one (beyond, it
+/// finds its place by bisection and moves them at once).
+const SHORT: usize = 16;
 
 /// One bucket: up to [`INLINE`] particles in place, the rest in a singly linked spill list (rare:
 /// the width aims at a few entries per bucket). Filing or removing an entry then touches the
@@ -39,7 +47,15 @@ pub struct PaulCalendar {
     buckets: Vec<Bucket>,
     /// Entries beyond the cycle, unordered (removal swaps the last one into the hole).
     overflow: Vec<u32>,
-    heap: Vec<(f64, u32)>,
+    /// The current bucket's entries, sorted latest first: the next pop is the last.
+    current: Vec<(f64, u32)>,
+    /// The current bucket has grown past `crowd_limit` entries: the next pop narrows the buckets.
+    crowded: bool,
+    /// [`CROWDED`], or twice the current bucket's entries after a narrowing that left more (ties in
+    /// time, which no width separates): a narrowing at most each time they double.
+    crowd_limit: usize,
+    /// Narrowings so far ([`PaulCalendar::narrowings`]).
+    narrowings: u64,
     /// Filings into buckets after the current one, as `(particle, bucket, loads at filing)`, whose
     /// bucket line was asked for but not yet written: linked at the second bucket load after their
     /// filing, or just before their own bucket is loaded if that comes first (no bucket is read
@@ -73,6 +89,12 @@ impl PaulCalendar {
     /// Current bucket width.
     pub fn width(&self) -> f64 {
         self.width
+    }
+
+    /// How often the calendar narrowed its buckets itself because the current one was crowded
+    /// (a width far too wide for the event rate, or many events tied in time).
+    pub fn narrowings(&self) -> u64 {
+        self.narrowings
     }
 
     #[inline(always)]
@@ -134,7 +156,7 @@ impl PaulCalendar {
         e[i as usize].entry_mut().time = t;
         let k = self.bucket_of(t) - self.cur;
         if k <= 0 {
-            self.heap_push(e, t, i);
+            self.current_push(e, t, i);
         } else if (k as u64) < self.nb as u64 {
             self.link(e, i, ((self.cur + k) as u64 as usize) & (self.nb - 1));
             self.in_buckets += 1;
@@ -155,69 +177,7 @@ impl PaulCalendar {
         }
     }
 
-    fn heap_push<E: HasEntry>(&mut self, e: &mut [E], t: f64, i: u32) {
-        let pos = self.heap.len();
-        self.heap.push((t, i));
-        e[i as usize].entry_mut().loc = IN_HEAP | pos as u32;
-        self.sift_up(e, pos);
-    }
-
-    #[inline]
-    fn heap_set<E: HasEntry>(&mut self, e: &mut [E], pos: usize, h: (f64, u32)) {
-        self.heap[pos] = h;
-        e[h.1 as usize].entry_mut().loc = IN_HEAP | pos as u32;
-    }
-
-    fn sift_up<E: HasEntry>(&mut self, e: &mut [E], mut pos: usize) {
-        let h = self.heap[pos];
-        while pos > 0 {
-            let parent = (pos - 1) / 2;
-            let ph = self.heap[parent];
-            if !earlier(h, ph) {
-                break;
-            }
-            self.heap_set(e, pos, ph);
-            pos = parent;
-        }
-        self.heap_set(e, pos, h);
-    }
-
-    fn sift_down<E: HasEntry>(&mut self, e: &mut [E], mut pos: usize) {
-        let h = self.heap[pos];
-        let len = self.heap.len();
-        loop {
-            let l = 2 * pos + 1;
-            if l >= len {
-                break;
-            }
-            let r = l + 1;
-            let c = if r < len && earlier(self.heap[r], self.heap[l]) {
-                r
-            } else {
-                l
-            };
-            if !earlier(self.heap[c], h) {
-                break;
-            }
-            self.heap_set(e, pos, self.heap[c]);
-            pos = c;
-        }
-        self.heap_set(e, pos, h);
-    }
-
-    fn heap_remove<E: HasEntry>(&mut self, e: &mut [E], pos: usize) {
-        let last = self
-            .heap
-            .pop()
-            .expect("heap position of a scheduled particle");
-        if pos < self.heap.len() {
-            self.heap_set(e, pos, last);
-            self.sift_down(e, pos);
-            self.sift_up(e, pos);
-        }
-    }
-
-    /// Moves overflow entries that fall in the coming cycle into buckets (or the heap); the rest
+    /// Moves overflow entries that fall in the coming cycle into buckets (or the current one); the rest
     /// close up in place.
     fn redistribute<E: HasEntry>(&mut self, e: &mut [E]) {
         let mut overflow = std::mem::take(&mut self.overflow);
@@ -237,9 +197,9 @@ impl PaulCalendar {
         self.overflow = overflow;
     }
 
-    /// Advances to the next non-empty bucket and loads it into the heap.
+    /// Advances to the next non-empty bucket and makes its entries the current ones.
     fn advance<E: HasEntry>(&mut self, e: &mut [E]) {
-        debug_assert!(self.heap.is_empty() && self.len > 0);
+        debug_assert!(self.current.is_empty() && self.len > 0);
         if self.in_buckets == 0 {
             // Every bucket is empty: jump to the cycle that holds the earliest overflow entry.
             let tmin = self
@@ -252,7 +212,7 @@ impl PaulCalendar {
             if start > self.cur {
                 self.cur = start;
                 self.redistribute(e);
-                if !self.heap.is_empty() {
+                if !self.current.is_empty() {
                     return;
                 }
             }
@@ -270,17 +230,31 @@ impl PaulCalendar {
             for &i in &bucket.ids[..bucket.len as usize] {
                 self.in_buckets -= 1;
                 let t = e[i as usize].entry().time;
-                self.heap_push(e, t, i);
+                self.current_push(e, t, i);
             }
+            // A bucket beyond its places (rare): the spilled entries are sorted in at once.
             let mut i = bucket.spill;
-            while i != NONE {
-                let next = e[i as usize].entry().next;
-                self.in_buckets -= 1;
-                let t = e[i as usize].entry().time;
-                self.heap_push(e, t, i);
-                i = next;
+            if i != NONE {
+                while i != NONE {
+                    let entry = e[i as usize].entry_mut();
+                    let next = entry.next;
+                    entry.loc = IN_CURRENT;
+                    self.current.push((entry.time, i));
+                    self.in_buckets -= 1;
+                    i = next;
+                }
+                self.current.sort_unstable_by(|&a, &b| {
+                    if earlier(b, a) {
+                        std::cmp::Ordering::Less
+                    } else if earlier(a, b) {
+                        std::cmp::Ordering::Greater
+                    } else {
+                        std::cmp::Ordering::Equal
+                    }
+                });
+                self.crowded |= self.current.len() > self.crowd_limit;
             }
-            if !self.heap.is_empty() {
+            if !self.current.is_empty() {
                 self.loads = self.loads.wrapping_add(1);
                 self.prefetch_ahead(e);
                 return;
@@ -290,7 +264,7 @@ impl PaulCalendar {
 
     /// Asks for the next two buckets' lines and the entries of the next one (whose line the
     /// previous advance asked for): the advance after this one then finds them in cache, and
-    /// [`Calendar::next_hint`] can name the next bucket's first entry while the heap is empty.
+    /// [`Calendar::next_hint`] can name the next bucket's first entry while the current one is empty.
     #[inline]
     fn prefetch_ahead<E: HasEntry>(&self, e: &[E]) {
         let mask = self.nb - 1;
@@ -334,7 +308,10 @@ impl Calendar for PaulCalendar {
         PaulCalendar {
             buckets: vec![EMPTY_BUCKET; nb],
             overflow: Vec::new(),
-            heap: Vec::with_capacity(64),
+            current: Vec::with_capacity(64),
+            crowded: false,
+            crowd_limit: CROWDED,
+            narrowings: 0,
             deferred: Vec::with_capacity(DEFER),
             loads: 0,
             defer: false,
@@ -368,8 +345,8 @@ impl Calendar for PaulCalendar {
         if l & DEFERRED == DEFERRED {
             self.deferred_remove(e, (l & !DEFERRED) as usize);
             self.in_buckets -= 1;
-        } else if l & IN_HEAP != 0 {
-            self.heap_remove(e, (l & !IN_HEAP) as usize);
+        } else if l & IN_CURRENT != 0 {
+            self.current_remove(i);
         } else if l & IN_OVERFLOW != 0 {
             self.overflow_remove(e, (l & !IN_OVERFLOW) as usize);
         } else {
@@ -382,27 +359,29 @@ impl Calendar for PaulCalendar {
 
     #[inline]
     fn pop<E: HasEntry>(&mut self, e: &mut [E]) -> Option<(u32, f64)> {
-        if self.heap.is_empty() {
+        if self.crowded {
+            self.narrow(e);
+        }
+        if self.current.is_empty() {
             if self.len == 0 {
                 return None;
             }
             self.advance(e);
         }
-        let (t, i) = self.heap[0];
-        self.heap_remove(e, 0);
+        let (t, i) = self.current.pop()?;
         e[i as usize].entry_mut().loc = NONE;
         self.len -= 1;
         Some((i, t))
     }
 
     fn peek_time<E: HasEntry>(&mut self, e: &mut [E]) -> Option<f64> {
-        if self.heap.is_empty() {
+        if self.current.is_empty() {
             if self.len == 0 {
                 return None;
             }
             self.advance(e);
         }
-        Some(self.heap[0].0)
+        self.current.last().map(|h| h.0)
     }
 
     fn len(&self) -> usize {
@@ -426,7 +405,9 @@ impl Calendar for PaulCalendar {
         }
         self.buckets.fill(EMPTY_BUCKET);
         self.overflow.clear();
-        self.heap.clear();
+        self.current.clear();
+        self.crowded = false;
+        self.crowd_limit = CROWDED;
         self.deferred.clear();
         if self.defer_by_size {
             let bytes = self.nb * std::mem::size_of::<Bucket>() + std::mem::size_of_val(e);
@@ -444,9 +425,9 @@ impl Calendar for PaulCalendar {
 impl Hints for PaulCalendar {
     #[inline(always)]
     fn next_hint(&self) -> Option<u32> {
-        match self.heap.first() {
+        match self.current.last() {
             Some(h) => Some(h.1),
-            // The heap runs dry after its last entry: the next bucket's first entry is the best
+            // The current bucket runs dry after its last entry: the next bucket's first is the best
             // guess (its line was asked for at the last advance).
             None => {
                 let b = &self.buckets[(self.cur.wrapping_add(1) as u64 as usize) & (self.nb - 1)];
@@ -464,7 +445,7 @@ impl Hints for PaulCalendar {
         }
         if let Some(x) = e.get(i as usize) {
             let l = x.entry().loc;
-            if l & (IN_HEAP | IN_OVERFLOW) == 0 && (l as usize) < self.buckets.len() {
+            if l & (IN_CURRENT | IN_OVERFLOW) == 0 && (l as usize) < self.buckets.len() {
                 crate::prefetch::prefetch(&self.buckets[l as usize]);
             }
         }
