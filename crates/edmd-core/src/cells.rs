@@ -174,6 +174,16 @@ impl<const D: usize> CellGrid<D> {
         }
     }
 
+    /// The first members of the three cells of the row that starts at cell `start` (as
+    /// [`Self::for_each_row`] names it): one bounds check for the three.
+    #[inline(always)]
+    pub(crate) fn row(&self, start: usize) -> [u32; 3] {
+        let row: &[u32; 3] = self.head[start..start + 3]
+            .try_into()
+            .expect("a row of three cells");
+        *row
+    }
+
     /// Number of cells.
     pub fn len(&self) -> usize {
         self.head.len()

@@ -21,14 +21,21 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         let pos_i = pi.r0 + pi.vel * self.now;
         let ci = self.meta[i].cell;
         if self.grid.is_interior(&ci) {
-            // Interior cell (the common case): fixed offsets, no periodic images.
-            let center = self.grid.index(&ci) as isize;
-            let offsets = match only {
-                None => &self.grid.full,
-                Some((axis, dir)) => &self.grid.partial[2 * axis + (dir > 0) as usize],
-            };
-            for &o in offsets {
-                best = self.scan_cell((center + o) as usize, i, &pi, &pos_i, best);
+            // Interior cell (the common case): fixed offsets, no periodic images; a full search
+            // by rows of three cells (in the order of `grid.full`).
+            let center = self.grid.index(&ci);
+            match only {
+                None => self.grid.for_each_row(center, |start| {
+                    for first in self.grid.row(start) {
+                        best = self.scan_members(first, i, &pi, &pos_i, best);
+                    }
+                }),
+                Some((axis, dir)) => {
+                    for &o in &self.grid.partial[2 * axis + (dir > 0) as usize] {
+                        let idx = (center as isize + o) as usize;
+                        best = self.scan_cell(idx, i, &pi, &pos_i, best);
+                    }
+                }
             }
             return best;
         }
@@ -100,11 +107,24 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         i: usize,
         pi: &Particle<D>,
         ri: &Vector<D>,
+        best: (f64, u32),
+    ) -> (f64, u32) {
+        self.scan_members(self.grid.first(idx), i, pi, ri, best)
+    }
+
+    /// [`Self::scan_cell`] from the cell's first member `first`.
+    #[inline(always)]
+    fn scan_members(
+        &self,
+        first: u32,
+        i: usize,
+        pi: &Particle<D>,
+        ri: &Vector<D>,
         mut best: (f64, u32),
     ) -> (f64, u32) {
         let now = self.now;
         let vi2 = pi.vel.norm_squared();
-        let mut k = self.grid.first(idx);
+        let mut k = first;
         while k != NONE {
             let pk = &self.particles[k as usize];
             let next = pk.next_in_cell;
