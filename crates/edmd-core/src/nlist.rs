@@ -41,6 +41,9 @@ pub(crate) struct NeighbourLists<const D: usize> {
     /// Whether list scans test four partners at once (`sim/wide_scan.rs`): where the processor
     /// can; [`Self::use_portable_scan`] turns it off.
     pub wide: bool,
+    /// Whether every particle has the same radius (set by the engine at construction; radii never
+    /// change): the four-wide scan then reads no partner's radius.
+    pub same_radius: bool,
     /// Whether a four-wide scan first asks for every partner's record: where the records outgrow
     /// the L2 ([`crate::caches::partner_hints_threshold`]; the two-wide scan always does).
     pub hint_partners: bool,
@@ -62,6 +65,7 @@ impl<const D: usize> NeighbourLists<D> {
             candidates: Vec::new(),
             mark: vec![0; n],
             stamp: 0,
+            same_radius: false,
             wide: crate::sim::wide_scan_available::<D>(n),
             hint_partners: n * std::mem::size_of::<crate::Particle<D>>()
                 > crate::caches::partner_hints_threshold(),

@@ -129,13 +129,13 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         // The scan's variant: (WRAP, SHEAR) = no images far from the faces, sliding images near a
         // sliding face, periodic images elsewhere.
         macro_rules! variant {
-            ($scan:ident, $list:expr) => {
+            ($scan:ident, $list:expr $(, $more:expr)*) => {
                 if far {
-                    self.$scan::<false, false>($list, i, best, horizon)
+                    self.$scan::<false, false $(, $more)*>($list, i, best, horizon)
                 } else if sliding {
-                    self.$scan::<true, true>($list, i, best, horizon)
+                    self.$scan::<true, true $(, $more)*>($list, i, best, horizon)
                 } else {
-                    self.$scan::<true, false>($list, i, best, horizon)
+                    self.$scan::<true, false $(, $more)*>($list, i, best, horizon)
                 }
             };
         }
@@ -144,7 +144,13 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             // SAFETY: `nl.wide` is set only where `wide_scan_available` found AVX2 and the slots'
             // offsets fit (`NeighbourLists::new`).
             #[allow(unsafe_code)]
-            return unsafe { variant!(scan_list_wide, nl) };
+            return unsafe {
+                if nl.same_radius {
+                    variant!(scan_list_wide, nl, true)
+                } else {
+                    variant!(scan_list_wide, nl, false)
+                }
+            };
         }
         variant!(scan_list, nl.of(i))
     }

@@ -345,7 +345,11 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             .flatten()
             .filter(|g| !B::SHEARED || g.n[0] >= 4);
         let (grid, nl) = match list_grid {
-            Some(g) => (g, Some(NeighbourLists::new(n, skin, max_d))),
+            Some(g) => {
+                let mut nl = NeighbourLists::new(n, skin, max_d);
+                nl.same_radius = particles.iter().all(|p| p.radius == particles[0].radius);
+                (g, Some(nl))
+            }
             None => (
                 CellGrid::new(&box_len, max_d, max_d * params.cell_factor)?,
                 None,

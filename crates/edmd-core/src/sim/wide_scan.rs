@@ -38,14 +38,15 @@ pub(crate) fn wide_scan_available<const D: usize>(n: usize) -> bool {
 
 #[cfg(target_arch = "x86_64")]
 impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B, R, C> {
-    /// [`Simulation::scan_list`] with the cheap test on four partners at once (module docs).
+    /// [`Simulation::scan_list`] with the cheap test on four partners at once (module docs);
+    /// `SAME`: every particle has the same radius ([`NeighbourLists::same_radius`]).
     ///
     /// # Safety
     /// The processor must support AVX2, and `n` times the particle record's length in `f64` words
     /// must fit an `i32` ([`wide_scan_available`]).
     #[target_feature(enable = "avx2")]
     #[allow(unsafe_code)]
-    pub(super) unsafe fn scan_list_wide<const WRAP: bool, const SHEAR: bool>(
+    pub(super) unsafe fn scan_list_wide<const WRAP: bool, const SHEAR: bool, const SAME: bool>(
         &self,
         nl: &NeighbourLists<D>,
         i: usize,
@@ -67,8 +68,8 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         // offsets fit an i32 by the contract).
         let now_v = _mm256_set1_pd(now);
         let ri = _mm256_set1_pd(pi.radius);
-        let two = _mm256_set1_pd(2.0);
-        let margin = _mm256_set1_pd(1.0 + 1e-9);
+        let ri2 = _mm256_set1_pd(pi.radius + pi.radius);
+        let mut factor = _mm256_set1_pd(bound_factor(limit));
         let sign = _mm256_set1_pd(-0.0);
         let zero = _mm256_setzero_pd();
         let stride = _mm_set1_epi32(words);
@@ -83,6 +84,10 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             let mut dr2 = zero;
             let mut across = zero;
             // Separation, relative velocity and the partner's velocity per axis, for the exact times.
+            // The separation and the relative velocity are taken partner minus own, the negatives
+            // of `pair_time`'s, exactly (x − y = −(y − x) in floating point): every product of two
+            // of them, and so b, |r|² and the exact time, is the same to the bit, and the own
+            // values can be read from memory by the subtraction itself.
             let mut ds = [zero; D];
             let mut dvs = [zero; D];
             let mut vels = [zero; D];
@@ -97,11 +102,11 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                         let half = _mm256_set1_pd(self.half_box[a]);
                         across = _mm256_cmp_pd::<_CMP_GT_OQ>(raw, half);
                     }
-                    nearest_separation(own, pos, self.half_box[a], self.box_len[a])
+                    nearest_separation_from(own, pos, self.half_box[a], self.box_len[a])
                 } else {
-                    _mm256_sub_pd(own, pos)
+                    _mm256_sub_pd(pos, own)
                 };
-                let dv = _mm256_sub_pd(_mm256_set1_pd(pi.vel[a]), vel);
+                let dv = _mm256_sub_pd(vel, _mm256_set1_pd(pi.vel[a]));
                 (ds[a], dvs[a], vels[a]) = (d, dv, vel);
                 if a == 0 {
                     b = _mm256_mul_pd(d, dv);
@@ -111,12 +116,16 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                     dr2 = _mm256_add_pd(dr2, _mm256_mul_pd(d, d));
                 }
             }
-            let radius = _mm256_i32gather_pd::<8>(base.add(radius_at), at);
-            let sigma = _mm256_add_pd(ri, radius);
+            // Where every radius is `i`'s, σ is `i`'s two radii for every partner, to the bit.
+            let sigma = if SAME {
+                ri2
+            } else {
+                _mm256_add_pd(ri, _mm256_i32gather_pd::<8>(base.add(radius_at), at))
+            };
             let room = _mm256_sub_pd(_mm256_mul_pd(sigma, sigma), dr2);
-            // `rootless_test`: b < 0 and room ≥ 2 b limit (1 + 1e-9).
-            let bound = _mm256_mul_pd(_mm256_mul_pd(two, b), _mm256_set1_pd(limit));
-            let fits = _mm256_cmp_pd::<_CMP_GE_OQ>(room, _mm256_mul_pd(bound, margin));
+            // `rootless_test` (b < 0 and room ≥ 2 b limit (1 + 1e-9)), a trace looser: the lanes
+            // it keeps go through the test itself below.
+            let fits = _mm256_cmp_pd::<_CMP_GE_OQ>(room, _mm256_mul_pd(b, factor));
             let keep = _mm256_or_pd(
                 _mm256_and_pd(_mm256_cmp_pd::<_CMP_LT_OQ>(b, zero), fits),
                 across,
@@ -150,6 +159,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                     if t < best.0 {
                         best = (t, group[k]);
                         limit = limit.min(t - now);
+                        factor = _mm256_set1_pd(bound_factor(limit));
                     }
                 }
             }
@@ -268,6 +278,33 @@ unsafe fn pair_times<const D: usize>(
     );
     let hit = _mm256_and_pd(approach, _mm256_cmp_pd::<_CMP_GT_OQ>(disc, zero));
     _mm256_blendv_pd(_mm256_set1_pd(f64::INFINITY), t, hit)
+}
+
+/// The factor `f` of the four-wide form `room ≥ b f` of [`rootless_test`] for `limit`: `2 limit
+/// (1 + 1e-9)`, a relative 1e-12 larger. For b < 0 the bound b f then lies below the test's own
+/// `(2 b limit)(1 + 1e-9)` by far more than their few roundings, so the four-wide form keeps every
+/// partner the test keeps (and the test decides); at limit 0 or ∞ both bounds are equal.
+#[inline(always)]
+fn bound_factor(limit: f64) -> f64 {
+    2.0 * limit * (1.0 + 1e-9) * (1.0 + 1e-12)
+}
+
+/// [`nearest_separation`] with its sign flipped, `other − image_near(own, other)` exactly: `other`
+/// minus `own` moved by `len` towards it where they lie more than `half` apart.
+///
+/// # Safety
+/// The processor must support AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[allow(unsafe_code)]
+#[inline]
+unsafe fn nearest_separation_from(own: __m256d, other: __m256d, half: f64, len: f64) -> __m256d {
+    // raw = other − own = −(own − other): `up` where own − other > half, `down` where < −half.
+    let raw = _mm256_sub_pd(other, own);
+    let len = _mm256_set1_pd(len);
+    let up = _mm256_and_pd(_mm256_cmp_pd::<_CMP_LT_OQ>(raw, _mm256_set1_pd(-half)), len);
+    let down = _mm256_and_pd(_mm256_cmp_pd::<_CMP_GT_OQ>(raw, _mm256_set1_pd(half)), len);
+    _mm256_sub_pd(other, _mm256_sub_pd(own, _mm256_sub_pd(up, down)))
 }
 
 /// `image_near(own, other) − other` along one periodic axis of side `len` on four lanes: `own`
