@@ -7,8 +7,8 @@
 //! the bucket and the particle's own entry), and everything later waits in an unordered overflow
 //! array that is redistributed once per cycle of `M` buckets. With a width of a few mean
 //! inter-event times the current bucket holds a handful of entries, so every operation is O(1)
-//! amortised; a current bucket crowded past 64 entries (a width far too wide for the event rate)
-//! makes the calendar narrow its buckets itself.
+//! amortised; a current bucket crowded past 32 entries (a width far too wide for the event rate, or
+//! events tied in time) runs as an indexed binary heap until it is empty.
 //!
 //! [`HeapCalendar`] is a plain `BinaryHeap` with lazy deletion. It has the same API and exists as a
 //! test oracle and as the benchmark baseline.

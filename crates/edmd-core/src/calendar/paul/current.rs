@@ -1,21 +1,26 @@
-//! The Paul calendar's current bucket: a short array sorted latest first, and the narrowing of the
-//! buckets when it is crowded.
+//! The Paul calendar's current bucket: a short array sorted latest first, which becomes an indexed
+//! binary heap when it grows past [`CROWDED`] entries.
+//!
+//! With the width the engine tunes (two events per bucket) a filing into the current bucket finds
+//! one to three entries there in most cases: shifting the later ones up costs less than a heap's
+//! moves, each of which rewrites the moved particle's entry (its heap position), and a pop takes the
+//! last entry. A width far too wide for the event rate (between two re-tunings), or many events at
+//! the same time, crowds the bucket: past [`CROWDED`] entries it turns into a heap (the sorted array
+//! reversed is one) until it runs empty, so no operation costs more than a heap's O(log m). The order
+//! of pops is that of `(time, index)` either way.
 
-use super::{earlier, HasEntry, PaulCalendar, CROWDED, EMPTY_BUCKET, IN_CURRENT, NONE, SHORT};
+use super::{earlier, HasEntry, PaulCalendar, CROWDED, IN_CURRENT};
 
 impl PaulCalendar {
-    /// Files `(t, i)` among the current bucket's entries, kept sorted latest first (the next pop
-    /// is the last). The width aims at a few entries (the re-tuning's two events per bucket give
-    /// 1–3 at a filing in most cases), where shifting the later ones up costs less than a heap's
-    /// moves, each of which rewrites the moved particle's entry; [`CROWDED`] bounds the shifts.
+    /// Files `(t, i)` in the current bucket.
     #[inline]
     pub(super) fn current_push<E: HasEntry>(&mut self, e: &mut [E], t: f64, i: u32) {
-        e[i as usize].entry_mut().loc = IN_CURRENT;
         let h = (t, i);
-        if self.current.len() >= SHORT {
-            self.current_push_long(h);
+        if self.heap_mode || self.current.len() >= CROWDED {
+            self.heap_push(e, h);
             return;
         }
+        e[i as usize].entry_mut().loc = IN_CURRENT;
         let v = &mut self.current;
         v.push(h);
         let mut k = v.len() - 1;
@@ -26,19 +31,14 @@ impl PaulCalendar {
         v[k] = h;
     }
 
-    /// [`Self::current_push`] into a long current bucket: the place by bisection, the later
-    /// entries moved at once.
-    #[cold]
-    #[inline(never)]
-    fn current_push_long(&mut self, h: (f64, u32)) {
-        let k = self.current.partition_point(|&x| earlier(h, x));
-        self.current.insert(k, h);
-        self.crowded |= self.current.len() > self.crowd_limit;
-    }
-
-    /// Removes particle `i` from the current bucket's entries.
+    /// Removes particle `i`, whose entry's place is `loc`, from the current bucket.
     #[inline]
-    pub(super) fn current_remove(&mut self, i: u32) {
+    pub(super) fn current_remove<E: HasEntry>(&mut self, e: &mut [E], i: u32, loc: u32) {
+        if self.heap_mode {
+            self.heap_remove(e, (loc & !IN_CURRENT) as usize);
+            self.heap_mode = !self.current.is_empty();
+            return;
+        }
         let v = &mut self.current;
         let mut k = v
             .iter()
@@ -52,50 +52,98 @@ impl PaulCalendar {
         v.pop();
     }
 
-    /// Files every entry again with buckets narrow enough that about `EVENTS` of the current
-    /// bucket's `m` entries fall in one: the time origin moves to the earliest entry. The order of pops
-    /// does not change (it is that of the times); only a width far too wide for the event rate
-    /// (between two re-tunings by the engine) comes here.
+    /// Removes and returns the current bucket's earliest entry.
+    #[inline]
+    pub(super) fn current_pop<E: HasEntry>(&mut self, e: &mut [E]) -> Option<(f64, u32)> {
+        if !self.heap_mode {
+            return self.current.pop();
+        }
+        let h = *self.current.first()?;
+        self.heap_remove(e, 0);
+        self.heap_mode = !self.current.is_empty();
+        Some(h)
+    }
+
+    /// The current bucket's earliest entry.
+    #[inline(always)]
+    pub(super) fn current_first(&self) -> Option<&(f64, u32)> {
+        if self.heap_mode {
+            self.current.first()
+        } else {
+            self.current.last()
+        }
+    }
+
+    /// Files `h` in the heap, turning the sorted array into one first if it is not yet.
     #[cold]
-    pub(super) fn narrow<E: HasEntry>(&mut self, e: &mut [E]) {
-        const EVENTS: f64 = 4.0;
-        self.crowded = false;
-        let m = self.current.len();
-        if m <= self.crowd_limit {
-            return;
-        }
-        self.narrowings += 1;
-        // The crowd's span in time (latest first): with about `EVENTS` of it per bucket. Ties span
-        // nothing, and no width separates them; the width then stays.
-        let span = self.current[0].0 - self.current[m - 1].0;
-        if span > 0.0 && span.is_finite() {
-            self.width = self.width.min(span) * EVENTS / m as f64;
-            self.inv_width = 1.0 / self.width;
-        }
-        let mut filed: Vec<u32> = self.current.drain(..).map(|h| h.1).collect();
-        filed.append(&mut self.overflow);
-        filed.extend(self.deferred.drain(..).map(|d| d.0));
-        for b in 0..self.nb {
-            let bucket = std::mem::replace(&mut self.buckets[b], EMPTY_BUCKET);
-            filed.extend_from_slice(&bucket.ids[..bucket.len as usize]);
-            let mut k = bucket.spill;
-            while k != NONE {
-                filed.push(k);
-                k = e[k as usize].entry().next;
+    #[inline(never)]
+    fn heap_push<E: HasEntry>(&mut self, e: &mut [E], h: (f64, u32)) {
+        if !self.heap_mode {
+            // Sorted latest first, reversed: earliest first, which is a heap.
+            self.current.reverse();
+            for (pos, &(_, i)) in self.current.iter().enumerate() {
+                e[i as usize].entry_mut().loc = IN_CURRENT | pos as u32;
             }
+            self.heap_mode = true;
         }
-        let origin = filed
-            .iter()
-            .map(|&i| e[i as usize].entry().time)
-            .fold(f64::INFINITY, f64::min);
-        self.origin = origin;
-        self.cur = 0;
-        self.in_buckets = 0;
-        for i in filed {
-            let t = e[i as usize].entry().time;
-            self.insert_now(e, i, t);
+        let pos = self.current.len();
+        self.current.push(h);
+        e[h.1 as usize].entry_mut().loc = IN_CURRENT | pos as u32;
+        self.sift_up(e, pos);
+    }
+
+    #[inline]
+    fn heap_set<E: HasEntry>(&mut self, e: &mut [E], pos: usize, h: (f64, u32)) {
+        self.current[pos] = h;
+        e[h.1 as usize].entry_mut().loc = IN_CURRENT | pos as u32;
+    }
+
+    fn sift_up<E: HasEntry>(&mut self, e: &mut [E], mut pos: usize) {
+        let h = self.current[pos];
+        while pos > 0 {
+            let parent = (pos - 1) / 2;
+            let ph = self.current[parent];
+            if !earlier(h, ph) {
+                break;
+            }
+            self.heap_set(e, pos, ph);
+            pos = parent;
         }
-        self.crowded = false;
-        self.crowd_limit = CROWDED.max(2 * self.current.len());
+        self.heap_set(e, pos, h);
+    }
+
+    fn sift_down<E: HasEntry>(&mut self, e: &mut [E], mut pos: usize) {
+        let h = self.current[pos];
+        let len = self.current.len();
+        loop {
+            let l = 2 * pos + 1;
+            if l >= len {
+                break;
+            }
+            let r = l + 1;
+            let c = if r < len && earlier(self.current[r], self.current[l]) {
+                r
+            } else {
+                l
+            };
+            if !earlier(self.current[c], h) {
+                break;
+            }
+            self.heap_set(e, pos, self.current[c]);
+            pos = c;
+        }
+        self.heap_set(e, pos, h);
+    }
+
+    fn heap_remove<E: HasEntry>(&mut self, e: &mut [E], pos: usize) {
+        let last = self
+            .current
+            .pop()
+            .expect("heap position of a scheduled particle");
+        if pos < self.current.len() {
+            self.heap_set(e, pos, last);
+            self.sift_down(e, pos);
+            self.sift_up(e, pos);
+        }
     }
 }

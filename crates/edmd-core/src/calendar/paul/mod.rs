@@ -14,13 +14,9 @@ const DEFERRED: u32 = IN_CURRENT | IN_OVERFLOW;
 const DEFER: usize = 32;
 /// Entries a bucket holds in its own cache-line half; more spill into a list through the entries.
 const INLINE: usize = 6;
-/// Entries of the current bucket beyond which the buckets are narrowed (a width far too wide for
-/// the event rate): sorted filing costs a shift per later entry, which a few entries make cheaper
-/// than a heap's moves, and many would make dear (`PaulCalendar::narrow`).
-const CROWDED: usize = 64;
-/// Entries of the current bucket up to which a filing shifts the later ones one by one (beyond, it
-/// finds its place by bisection and moves them at once).
-const SHORT: usize = 16;
+/// Entries of the current bucket beyond which it is kept as a heap instead of a sorted array
+/// (`paul/current.rs`).
+const CROWDED: usize = 32;
 
 /// One bucket: up to [`INLINE`] particles in place, the rest in a singly linked spill list (rare:
 /// the width aims at a few entries per bucket). Filing or removing an entry then touches the
@@ -47,15 +43,11 @@ pub struct PaulCalendar {
     buckets: Vec<Bucket>,
     /// Entries beyond the cycle, unordered (removal swaps the last one into the hole).
     overflow: Vec<u32>,
-    /// The current bucket's entries, sorted latest first: the next pop is the last.
+    /// The current bucket's entries: sorted latest first (the next pop is the last), or a heap
+    /// where crowded (`heap_mode`; `paul/current.rs`).
     current: Vec<(f64, u32)>,
-    /// The current bucket has grown past `crowd_limit` entries: the next pop narrows the buckets.
-    crowded: bool,
-    /// [`CROWDED`], or twice the current bucket's entries after a narrowing that left more (ties in
-    /// time, which no width separates): a narrowing at most each time they double.
-    crowd_limit: usize,
-    /// Narrowings so far ([`PaulCalendar::narrowings`]).
-    narrowings: u64,
+    /// Whether `current` is a heap, earliest first, rather than sorted latest first.
+    heap_mode: bool,
     /// Filings into buckets after the current one, as `(particle, bucket, loads at filing)`, whose
     /// bucket line was asked for but not yet written: linked at the second bucket load after their
     /// filing, or just before their own bucket is loaded if that comes first (no bucket is read
@@ -89,12 +81,6 @@ impl PaulCalendar {
     /// Current bucket width.
     pub fn width(&self) -> f64 {
         self.width
-    }
-
-    /// How often the calendar narrowed its buckets itself because the current one was crowded
-    /// (a width far too wide for the event rate, or many events tied in time).
-    pub fn narrowings(&self) -> u64 {
-        self.narrowings
     }
 
     #[inline(always)]
@@ -200,6 +186,7 @@ impl PaulCalendar {
     /// Advances to the next non-empty bucket and makes its entries the current ones.
     fn advance<E: HasEntry>(&mut self, e: &mut [E]) {
         debug_assert!(self.current.is_empty() && self.len > 0);
+        self.heap_mode = false;
         if self.in_buckets == 0 {
             // Every bucket is empty: jump to the cycle that holds the earliest overflow entry.
             let tmin = self
@@ -232,27 +219,13 @@ impl PaulCalendar {
                 let t = e[i as usize].entry().time;
                 self.current_push(e, t, i);
             }
-            // A bucket beyond its places (rare): the spilled entries are sorted in at once.
             let mut i = bucket.spill;
-            if i != NONE {
-                while i != NONE {
-                    let entry = e[i as usize].entry_mut();
-                    let next = entry.next;
-                    entry.loc = IN_CURRENT;
-                    self.current.push((entry.time, i));
-                    self.in_buckets -= 1;
-                    i = next;
-                }
-                self.current.sort_unstable_by(|&a, &b| {
-                    if earlier(b, a) {
-                        std::cmp::Ordering::Less
-                    } else if earlier(a, b) {
-                        std::cmp::Ordering::Greater
-                    } else {
-                        std::cmp::Ordering::Equal
-                    }
-                });
-                self.crowded |= self.current.len() > self.crowd_limit;
+            while i != NONE {
+                let next = e[i as usize].entry().next;
+                self.in_buckets -= 1;
+                let t = e[i as usize].entry().time;
+                self.current_push(e, t, i);
+                i = next;
             }
             if !self.current.is_empty() {
                 self.loads = self.loads.wrapping_add(1);
@@ -309,9 +282,7 @@ impl Calendar for PaulCalendar {
             buckets: vec![EMPTY_BUCKET; nb],
             overflow: Vec::new(),
             current: Vec::with_capacity(64),
-            crowded: false,
-            crowd_limit: CROWDED,
-            narrowings: 0,
+            heap_mode: false,
             deferred: Vec::with_capacity(DEFER),
             loads: 0,
             defer: false,
@@ -346,7 +317,7 @@ impl Calendar for PaulCalendar {
             self.deferred_remove(e, (l & !DEFERRED) as usize);
             self.in_buckets -= 1;
         } else if l & IN_CURRENT != 0 {
-            self.current_remove(i);
+            self.current_remove(e, i, l);
         } else if l & IN_OVERFLOW != 0 {
             self.overflow_remove(e, (l & !IN_OVERFLOW) as usize);
         } else {
@@ -359,16 +330,13 @@ impl Calendar for PaulCalendar {
 
     #[inline]
     fn pop<E: HasEntry>(&mut self, e: &mut [E]) -> Option<(u32, f64)> {
-        if self.crowded {
-            self.narrow(e);
-        }
         if self.current.is_empty() {
             if self.len == 0 {
                 return None;
             }
             self.advance(e);
         }
-        let (t, i) = self.current.pop()?;
+        let (t, i) = self.current_pop(e)?;
         e[i as usize].entry_mut().loc = NONE;
         self.len -= 1;
         Some((i, t))
@@ -381,7 +349,7 @@ impl Calendar for PaulCalendar {
             }
             self.advance(e);
         }
-        self.current.last().map(|h| h.0)
+        self.current_first().map(|h| h.0)
     }
 
     fn len(&self) -> usize {
@@ -406,8 +374,7 @@ impl Calendar for PaulCalendar {
         self.buckets.fill(EMPTY_BUCKET);
         self.overflow.clear();
         self.current.clear();
-        self.crowded = false;
-        self.crowd_limit = CROWDED;
+        self.heap_mode = false;
         self.deferred.clear();
         if self.defer_by_size {
             let bytes = self.nb * std::mem::size_of::<Bucket>() + std::mem::size_of_val(e);
@@ -425,7 +392,7 @@ impl Calendar for PaulCalendar {
 impl Hints for PaulCalendar {
     #[inline(always)]
     fn next_hint(&self) -> Option<u32> {
-        match self.current.last() {
+        match self.current_first() {
             Some(h) => Some(h.1),
             // The current bucket runs dry after its last entry: the next bucket's first is the best
             // guess (its line was asked for at the last advance).
