@@ -204,13 +204,15 @@ pub(super) unsafe fn within_reach_wide<const D: usize, B: Boundary, const WRAP: 
         // Taken anew for each group: `found` may change the lists (never the centres).
         let centres = nl.centre.as_ptr().cast::<f64>();
         let mut d2 = _mm256_setzero_pd();
+        // Separations taken partner minus own, the exact negatives of the one-by-one test's: the
+        // same squares.
         for a in 0..D {
             let cj = _mm256_i32gather_pd::<8>(centres.add(a), at);
             let own = _mm256_set1_pd(centre[a]);
             let d = if WRAP && !B::is_wall(a) {
-                nearest_separation(own, cj, space.half_box[a], space.box_len[a])
+                nearest_separation_from(own, cj, space.half_box[a], space.box_len[a])
             } else {
-                _mm256_sub_pd(own, cj)
+                _mm256_sub_pd(cj, own)
             };
             d2 = if a == 0 {
                 _mm256_mul_pd(d, d)
@@ -289,8 +291,9 @@ fn bound_factor(limit: f64) -> f64 {
     2.0 * limit * (1.0 + 1e-9) * (1.0 + 1e-12)
 }
 
-/// [`nearest_separation`] with its sign flipped, `other − image_near(own, other)` exactly: `other`
-/// minus `own` moved by `len` towards it where they lie more than `half` apart.
+/// `other − image_near(own, other)` along one periodic axis of side `len` on four lanes: `other`
+/// minus `own` moved by `len` towards it where they lie more than `half` apart, by the operations
+/// of `image_near` with the sign flipped (exactly the negative of `image_near(own, other) − other`).
 ///
 /// # Safety
 /// The processor must support AVX2.
@@ -305,22 +308,4 @@ unsafe fn nearest_separation_from(own: __m256d, other: __m256d, half: f64, len: 
     let up = _mm256_and_pd(_mm256_cmp_pd::<_CMP_LT_OQ>(raw, _mm256_set1_pd(-half)), len);
     let down = _mm256_and_pd(_mm256_cmp_pd::<_CMP_GT_OQ>(raw, _mm256_set1_pd(half)), len);
     _mm256_sub_pd(other, _mm256_sub_pd(own, _mm256_sub_pd(up, down)))
-}
-
-/// `image_near(own, other) − other` along one periodic axis of side `len` on four lanes: `own`
-/// moved by `len` towards `other` where they lie more than `half` apart, minus `other`, by the
-/// operations of `image_near` (`own − (up − down)` is `own − len`, `own + len` or `own` exactly).
-///
-/// # Safety
-/// The processor must support AVX2.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-#[allow(unsafe_code)]
-#[inline]
-unsafe fn nearest_separation(own: __m256d, other: __m256d, half: f64, len: f64) -> __m256d {
-    let raw = _mm256_sub_pd(own, other);
-    let len = _mm256_set1_pd(len);
-    let up = _mm256_and_pd(_mm256_cmp_pd::<_CMP_GT_OQ>(raw, _mm256_set1_pd(half)), len);
-    let down = _mm256_and_pd(_mm256_cmp_pd::<_CMP_LT_OQ>(raw, _mm256_set1_pd(-half)), len);
-    _mm256_sub_pd(_mm256_sub_pd(own, _mm256_sub_pd(up, down)), other)
 }

@@ -216,6 +216,14 @@ fn look_ahead_changes_no_event() {
     look_ahead_changes_nothing::<3, Periodic>(2000, 0.45, 0.4);
 }
 
+/// Whether this processor runs the four-wide list scan (x86-64 with AVX2).
+fn wide_scan_here() -> bool {
+    #[cfg(target_arch = "x86_64")]
+    return std::arch::is_x86_feature_detected!("avx2");
+    #[cfg(not(target_arch = "x86_64"))]
+    return false;
+}
+
 /// The four-wide list scan (x86-64 with AVX2) must find exactly the events of the two-wide one: the
 /// same cheap test on four lanes, the same exact test in list order. Dense periodic, walled and
 /// sheared boxes (the scan's three variants: far from the faces, nearest images, sliding images),
@@ -235,11 +243,7 @@ fn wide_scan_changes_nothing<const D: usize, B: Boundary, R: CollisionRule + Clo
     });
     let mut a = p.build::<B, _>(rule.clone()).unwrap();
     let mut b = p.build::<B, _>(rule).unwrap();
-    #[cfg(target_arch = "x86_64")]
-    let wide_here = std::arch::is_x86_feature_detected!("avx2");
-    #[cfg(not(target_arch = "x86_64"))]
-    let wide_here = false;
-    if !wide_here {
+    if !wide_scan_here() {
         eprintln!("no AVX2 here: only the two-wide scan runs, nothing to compare");
         return;
     }
@@ -289,11 +293,7 @@ fn wide_scan_with_two_radii_changes_no_event() {
                 .unwrap();
         let mut b =
             Simulation::<3, Periodic, _>::new(*melted.box_len(), grains, Elastic, params).unwrap();
-        #[cfg(target_arch = "x86_64")]
-        let wide_here = std::arch::is_x86_feature_detected!("avx2");
-        #[cfg(not(target_arch = "x86_64"))]
-        let wide_here = false;
-        if !wide_here {
+        if !wide_scan_here() {
             eprintln!("no AVX2 here: only the two-wide scan runs, nothing to compare");
             return;
         }
