@@ -16,6 +16,11 @@ use crate::{EdmdError, Vector};
 /// Marks the end of a list.
 pub const NONE: u32 = u32::MAX;
 
+/// The most cells along one axis: a particle's cell coordinates are kept in 16 bits
+/// (`sim::Meta`). A longer axis gets longer cells, which only adds occupants per cell (a 2D box
+/// 10⁶ diameters long at φ 0.3; every other box of the docs has far fewer).
+pub const MAX_PER_AXIS: usize = u16::MAX as usize;
+
 /// Uniform grid of cells covering the box.
 #[derive(Debug, Clone)]
 pub struct CellGrid<const D: usize> {
@@ -89,7 +94,9 @@ impl<const D: usize> CellGrid<D> {
                     cell: min_side,
                 });
             }
-            let cells = ((len / want).floor().max(3.0)).min(max_cells).min(1e7) as usize;
+            let cells = ((len / want).floor().max(3.0))
+                .min(max_cells)
+                .min(MAX_PER_AXIS as f64) as usize;
             n[a] = cells;
             side[a] = len / cells as f64;
             stride[a] = total;
@@ -144,10 +151,11 @@ impl<const D: usize> CellGrid<D> {
 
     /// True if cell `c` has no face on the box boundary, so its neighbours need no wrapping.
     #[inline(always)]
-    pub fn is_interior(&self, c: &[u32; D]) -> bool {
+    pub fn is_interior<T: Copy + Into<u32>>(&self, c: &[T; D]) -> bool {
         let mut inside = true;
         for a in 0..D {
-            inside &= c[a] >= 1 && (c[a] as usize) + 1 < self.n[a];
+            let x: u32 = c[a].into();
+            inside &= x >= 1 && (x as usize) + 1 < self.n[a];
         }
         inside
     }
@@ -206,10 +214,11 @@ impl<const D: usize> CellGrid<D> {
 
     /// Linear index of cell coordinates.
     #[inline(always)]
-    pub fn index(&self, c: &[u32; D]) -> usize {
+    pub fn index<T: Copy + Into<u32>>(&self, c: &[T; D]) -> usize {
         let mut idx = 0;
         for a in 0..D {
-            idx += c[a] as usize * self.stride[a];
+            let x: u32 = c[a].into();
+            idx += x as usize * self.stride[a];
         }
         idx
     }
@@ -346,6 +355,16 @@ mod tests {
         let e = CellGrid::<2>::new(&vector![2.9, 10.0], 1.0, 1.0).unwrap_err();
         assert!(e.to_string().contains("Lx = 2.9"), "{e}");
         assert!(CellGrid::<2>::new(&vector![3.0, 3.0], 1.0, 1.0).is_ok());
+    }
+
+    #[test]
+    fn a_long_axis_gets_longer_cells_not_more_than_sixteen_bits_count() {
+        // 200 000 diameters along x would be 200 000 cells of one diameter.
+        let g = CellGrid::<2>::new(&vector![2e5, 10.0], 1.0, 1.0).unwrap();
+        assert_eq!(g.n[0], MAX_PER_AXIS);
+        assert!(g.side[0] > 1.0 && g.n[1] == 10);
+        let c = g.coords_of(&vector![2e5 - 1e-9, 5.0]);
+        assert_eq!(c[0] as usize, MAX_PER_AXIS - 1);
     }
 
     #[test]

@@ -2,7 +2,7 @@
 //! checked against the machine's memory (or an explicit limit) before anything is written or allocated.
 //!
 //! The estimate is an upper bound built from measured sizes, not an exact account: the engine's peak
-//! heap per particle (docs/benchmarks.md: 118-196 bytes in 2D, 188-384 in 3D with neighbour lists,
+//! heap per particle (docs/benchmarks.md: 118-196 bytes in 2D, 180-375 in 3D with neighbour lists,
 //! rounded up here to leave room for the observables' per-particle buffers), the snapshots held until
 //! the file is written (positions and velocities, plus the copy the writer makes of one of them), the
 //! sample columns and the classifier's grid.

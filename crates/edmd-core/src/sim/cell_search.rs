@@ -210,7 +210,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                     Aux::Wall { axis: a as u8, up },
                 )
             } else {
-                let face = (c[a] + up as u32) as f64 * self.grid.side[a];
+                let face = (c[a] as u32 + up as u32) as f64 * self.grid.side[a];
                 (
                     reach_time(p.r0[a] + v * self.now, v, face),
                     Aux::Crossing { axis: a as u8, up },
@@ -229,8 +229,9 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     pub(super) fn cross(&mut self, i: usize, axis: usize, up: bool) {
         self.counters.crossings += 1;
         let old = self.grid.index(&self.meta[i].cell);
-        let n = self.grid.n[axis] as u32;
+        let n = self.grid.n[axis] as u16;
         let c = &mut self.meta[i].cell[axis];
+        let from = *c as isize;
         let mut wrapped = false;
         if up {
             *c += 1;
@@ -246,11 +247,15 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         } else {
             *c -= 1;
         }
+        let to = *c as isize;
         let sheared = B::SHEARED && axis == 1 && wrapped;
-        if sheared {
+        let new = if sheared {
+            // The sliding face may move the cell along x too.
             self.cross_sheared_face(i, up);
-        }
-        let new = self.grid.index(&self.meta[i].cell);
+            self.grid.index(&self.meta[i].cell)
+        } else {
+            (old as isize + (to - from) * self.grid.stride[axis] as isize) as usize
+        };
         self.grid.remove(&mut self.particles, i as u32, old);
         self.grid.insert(&mut self.particles, i as u32, new);
         if sheared {

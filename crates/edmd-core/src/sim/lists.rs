@@ -37,12 +37,12 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         for i in 0..l.particles.len() {
             let pos = l.wrap_centre(i);
             let c = l.grid.coords_of(&pos);
-            l.meta[i].cell = c;
+            l.meta[i].set_cell(c);
             let idx = l.grid.index(&c);
             l.grid.insert(l.particles, i as u32, idx);
         }
         for i in 0..l.particles.len() {
-            let ci = l.meta[i].cell;
+            let ci = l.meta[i].cell();
             l.gather(&ci, i, true, |nl, j| nl.link(i, j as usize));
         }
     }
@@ -57,12 +57,12 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         };
         let pos = l.wrap_centre(i);
         let c = l.grid.coords_of(&pos);
-        if c != l.meta[i].cell {
-            let old = l.grid.index(&l.meta[i].cell);
+        if c != l.meta[i].cell() {
+            let old = l.grid.index(&l.meta[i].cell());
             l.grid.remove(l.particles, i as u32, old);
             let idx = l.grid.index(&c);
             l.grid.insert(l.particles, i as u32, idx);
-            l.meta[i].cell = c;
+            l.meta[i].set_cell(c);
         }
         l.nl.fresh.clear();
         l.gather(&c, i, false, |nl, j| nl.fresh.push(j));

@@ -63,7 +63,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         for &i in cal.ahead(1) {
             let m = &self.meta[i as usize];
             if m.ev.coll_t <= m.ev.aux_t && m.ev.partner != NONE {
-                if let Some(c) = self.interior_cell(&self.meta[m.ev.partner as usize].cell) {
+                if let Some(c) = self.interior_cell(&self.meta[m.ev.partner as usize].cell()) {
                     self.prefetch_members(c);
                 }
             }
@@ -111,7 +111,8 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                         self.grid.prefetch_head((centre as isize + o) as usize);
                     }
                     // The cell it leaves, which its removal walks from the head.
-                    self.grid.prefetch_head(self.grid.index(&self.meta[i].cell));
+                    self.grid
+                        .prefetch_head(self.grid.index(&self.meta[i].cell()));
                 }
                 Reads::Nothing => {}
             }
@@ -128,7 +129,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                 Reads::Search { centre, partner } => {
                     self.prefetch_members(centre);
                     if partner != NONE {
-                        if let Some(c) = self.interior_cell(&self.meta[partner as usize].cell) {
+                        if let Some(c) = self.interior_cell(&self.meta[partner as usize].cell()) {
                             self.prefetch_heads(c);
                         }
                         cal.prefetch_filing(&self.meta, partner, f64::INFINITY);
@@ -138,7 +139,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                     for &o in &self.grid.partial[side] {
                         self.prefetch_first_member((centre as isize + o) as usize);
                     }
-                    self.prefetch_first_member(self.grid.index(&self.meta[i].cell));
+                    self.prefetch_first_member(self.grid.index(&self.meta[i].cell()));
                 }
                 Reads::Nothing => {}
             }
@@ -150,7 +151,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     fn reads(&self, i: usize) -> Reads {
         let m = &self.meta[i];
         if m.ev.coll_t <= m.ev.aux_t {
-            return match self.interior_cell(&m.cell) {
+            return match self.interior_cell(&m.cell()) {
                 Some(centre) => Reads::Search {
                     centre,
                     partner: m.ev.partner,
@@ -160,7 +161,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         }
         match m.aux {
             Aux::Crossing { axis, up } => {
-                let mut c = m.cell;
+                let mut c = m.cell();
                 let a = axis as usize;
                 c[a] = if up { c[a] + 1 } else { c[a].wrapping_sub(1) };
                 match self.interior_cell(&c) {

@@ -139,7 +139,9 @@ pub(crate) struct Meta<const D: usize> {
     pub mass: f64,
     /// Original index of the particle (slots are renumbered in cell order for locality).
     pub id: u32,
-    pub cell: [u32; D],
+    /// Cell coordinates, 16 bits per axis (the grid has at most [`crate::cells::MAX_PER_AXIS`]
+    /// cells per axis), so that a 3D record, too, fills one cache line: [`Meta::cell`].
+    pub cell: [u16; D],
     /// The event at `ev.aux_t` (here rather than in `ev`, so that it shares the padding after
     /// `cell`).
     pub aux: Aux,
@@ -160,8 +162,24 @@ impl<const D: usize> HasEntry for Meta<D> {
     }
 }
 
-// A 2D record in exactly one cache line (the arrays of 4 KiB or more start on a line: `LineAligned`).
+impl<const D: usize> Meta<D> {
+    /// The cell coordinates.
+    #[inline(always)]
+    pub fn cell(&self) -> [u32; D] {
+        self.cell.map(u32::from)
+    }
+
+    /// Sets the cell coordinates (each below [`crate::cells::MAX_PER_AXIS`]).
+    #[inline(always)]
+    pub fn set_cell(&mut self, c: [u32; D]) {
+        debug_assert!(c.iter().all(|&x| (x as usize) < crate::cells::MAX_PER_AXIS));
+        self.cell = c.map(|x| x as u16);
+    }
+}
+
+// A 2D or 3D record in exactly one cache line (the arrays of 4 KiB or more start on a line: `LineAligned`).
 const _: () = assert!(std::mem::size_of::<Meta<2>>() == 64);
+const _: () = assert!(std::mem::size_of::<Meta<3>>() == 64);
 
 /// Running counters.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -418,7 +436,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         }
         for i in 0..n {
             let c = sim.grid.coords_of(&sim.particles[i].r0);
-            sim.meta[i].cell = c;
+            sim.meta[i].set_cell(c);
             let idx = sim.grid.index(&c);
             sim.grid.insert(&mut sim.particles, i as u32, idx);
         }

@@ -271,7 +271,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         });
         for i in members {
             let i = i as usize;
-            let cells = self.grid.neighbours(&self.meta[i].cell, B::is_wall);
+            let cells = self.grid.neighbours(&self.meta[i].cell(), B::is_wall);
             for &idx in &cells[..3usize.pow(D as u32)] {
                 if idx == usize::MAX {
                     continue;

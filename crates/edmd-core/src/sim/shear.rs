@@ -98,7 +98,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     ) -> (f64, u32) {
         let pi = self.particles[i];
         let pos_i = pi.r0 + pi.vel * self.now;
-        let ci = self.meta[i].cell;
+        let ci = self.meta[i].cell();
         let n = self.grid.n;
         let (nx, ny) = (n[0] as i64, n[1] as i64);
         let m = self.shear.cell;
@@ -204,7 +204,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         p.counter = p.counter.wrapping_add(1);
         let mut at = p.r0 + p.vel * now;
         at[0] = x;
-        self.meta[i].cell[0] = self.grid.coords_of(&at)[0];
+        self.meta[i].cell[0] = self.grid.coords_of(&at)[0] as u16;
     }
 }
 
