@@ -56,14 +56,23 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         }
     }
 
-    /// Renumbers the slots in cell order so that neighbours sit close in memory. The event slots'
-    /// partners are renumbered; the calendar must be rebuilt by the caller.
+    /// Renumbers the slots in cell order (row-major in cell mode, the Z order in list mode) so that
+    /// neighbours sit close in memory. The event slots' partners are renumbered; the calendar must
+    /// be rebuilt by the caller.
     pub(super) fn sort_by_cell(&mut self) {
         let n = self.particles.len();
+        // List mode reads partners all around a particle through its list: the Z order keeps them
+        // near along every axis (3D φ 0.45 N 10⁶ 1.04–1.06× faster, 97 556 1.02×). Cell mode walks
+        // rows of cells, which the row-major order keeps contiguous (2D φ 0.3 N 10⁶ 0.95× in Z
+        // order); docs/benchmarks.md, "Slot order, one-line records and the partners ahead".
+        let rank = self.uses_lists().then(|| z_order_ranks(&self.grid.n));
         let cells: Vec<u32> = self
             .meta
             .iter()
-            .map(|m| self.grid.index(&m.cell) as u32)
+            .map(|m| {
+                let idx = self.grid.index(&m.cell);
+                rank.as_ref().map_or(idx as u32, |r| r[idx])
+            })
             .collect();
         if cells.windows(2).all(|w| w[0] <= w[1]) {
             return;
@@ -180,5 +189,54 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         self.next_maintenance =
             self.counters.events + (self.params.rebase_events_per_particle * n).max(64.0) as u64;
         self.last_maintenance = (self.counters.events, 0.0);
+    }
+}
+
+/// Each cell's rank (by its row-major index) in the Z (Morton) order of the cells of a grid with `n`
+/// cells per axis: cells close in space are close in this order along every axis, where the
+/// row-major order puts the neighbours across the slowest axis a plane of cells away.
+fn z_order_ranks<const D: usize>(n: &[usize; D]) -> Vec<u32> {
+    let total: usize = n.iter().product();
+    let mut keys: Vec<(u64, u32)> = Vec::with_capacity(total);
+    let bits = 64 / D;
+    for idx in 0..total {
+        let mut rest = idx;
+        let mut key = 0u64;
+        for (a, &len) in n.iter().enumerate() {
+            let c = (rest % len) as u64;
+            rest /= len;
+            for b in 0..bits {
+                key |= ((c >> b) & 1) << (b * D + a);
+            }
+        }
+        keys.push((key, idx as u32));
+    }
+    keys.sort_unstable();
+    let mut rank = vec![0u32; total];
+    for (r, &(_, idx)) in keys.iter().enumerate() {
+        rank[idx as usize] = r as u32;
+    }
+    rank
+}
+
+#[cfg(test)]
+mod tests {
+    use super::z_order_ranks;
+
+    #[test]
+    fn z_order_ranks_interleave_the_axes() {
+        // A 4 × 4 grid, x fastest in the row-major index: (0,0) (1,0) (0,1) (1,1) (2,0) ...
+        let r = z_order_ranks(&[4, 4]);
+        let at = |x: usize, y: usize| r[x + 4 * y];
+        assert_eq!([at(0, 0), at(1, 0), at(0, 1), at(1, 1)], [0, 1, 2, 3]);
+        assert_eq!(
+            [at(2, 0), at(3, 0), at(2, 1), at(3, 1), at(0, 2)],
+            [4, 5, 6, 7, 8]
+        );
+        assert_eq!(at(3, 3), 15);
+        // Uneven 3D grid: a permutation of the cells.
+        let mut r = z_order_ranks(&[5, 3, 7]);
+        r.sort_unstable();
+        assert!(r.iter().enumerate().all(|(k, &x)| x as usize == k));
     }
 }
