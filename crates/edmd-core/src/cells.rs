@@ -84,6 +84,7 @@ impl<const D: usize> CellGrid<D> {
         let mut stride = [0usize; D];
         let want = target_side.max(min_side);
         let mut total = 1usize;
+        let mut wanted_total = 1usize;
         for a in 0..D {
             let len = box_len[a];
             let max_cells = (len / min_side).floor();
@@ -94,22 +95,23 @@ impl<const D: usize> CellGrid<D> {
                     cell: min_side,
                 });
             }
-            let cells = ((len / want).floor().max(3.0))
-                .min(max_cells)
-                .min(MAX_PER_AXIS as f64) as usize;
-            n[a] = cells;
-            side[a] = len / cells as f64;
-            stride[a] = total;
-            total = total
-                .checked_mul(cells)
+            let wanted = ((len / want).floor().max(3.0)).min(max_cells).min(1e7) as usize;
+            // A box too large for the cells it wants is refused, as before the per-axis cap.
+            wanted_total = wanted_total
+                .checked_mul(wanted)
                 .filter(|&t| t < u32::MAX as usize)
                 .ok_or_else(|| {
                     EdmdError::invalid(
                         "cell count",
-                        total as f64 * cells as f64,
+                        wanted_total as f64 * wanted as f64,
                         "too many cells; use a denser box",
                     )
                 })?;
+            let cells = wanted.min(MAX_PER_AXIS);
+            n[a] = cells;
+            side[a] = len / cells as f64;
+            stride[a] = total;
+            total *= cells;
         }
         Ok((n, side, stride, total))
     }
