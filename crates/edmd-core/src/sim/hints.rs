@@ -63,9 +63,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         if let Some(nl) = S::lists(&self.nl) {
             nl.prefetch(j);
             if self.look_ahead.on {
-                for &k in nl.of(j) {
-                    crate::prefetch::prefetch(&self.particles[k as usize]);
-                }
+                self.prefetch_listed(nl, j);
             }
         }
     }
@@ -89,10 +87,18 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         }
     }
 
+    /// Asks for the records of slot `i`'s listed partners, which a scan of its list reads.
+    #[inline(always)]
+    pub(super) fn prefetch_listed(&self, nl: &crate::nlist::NeighbourLists<D>, i: usize) {
+        for &k in nl.of(i) {
+            crate::prefetch::prefetch(&self.particles[k as usize]);
+        }
+    }
+
     /// Neighbour-list mode: asks for the lines the next event will read after its own particle's
     /// (prefetched when it reached the calendar's front): its listed partners' records, and its
-    /// collision partner's record, bookkeeping and list. Their address needs the next particle's bookkeeping, which has arrived
-    /// by the end of the current event. (In cell mode the same, and the first members of the
+    /// collision partner's record, bookkeeping and list. Their address needs the next particle's
+    /// bookkeeping, which has arrived by the end of the current event. (In cell mode the same, and the first members of the
     /// neighbour cells, measured no gain: docs/benchmarks.md.)
     #[inline]
     fn prefetch_next_partner(&self) {
@@ -102,9 +108,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         // The next particle's listed partners, whose records its prediction scans (its list was
         // asked for when it reached the calendar's front): 3D φ 0.45 N 10⁶ 1.06× faster; at
         // N 97 556 (records beyond the L2, look-ahead off) it gains nothing (docs/benchmarks.md).
-        for &k in nl.of(next as usize) {
-            crate::prefetch::prefetch(&self.particles[k as usize]);
-        }
+        self.prefetch_listed(nl, next as usize);
         let e = &self.meta[next as usize].ev;
         if e.coll_t <= e.aux_t && e.partner != NONE {
             let j = e.partner as usize;

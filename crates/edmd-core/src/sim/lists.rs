@@ -120,9 +120,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         // Ask for every partner's cache line at once: their loads then overlap. (The four-wide
         // scan's gathers overlap without it while the records fit the L2.)
         if nl.hint_partners || !nl.wide {
-            for &j in nl.of(i) {
-                crate::prefetch::prefetch(&self.particles[j as usize]);
-            }
+            self.prefetch_listed(nl, i);
         }
         let far = self.far_from_periodic_faces(nl, i);
         let sliding = !far && B::SHEARED && self.near_sliding_face(nl, i);

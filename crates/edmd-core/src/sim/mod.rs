@@ -177,7 +177,8 @@ impl<const D: usize> Meta<D> {
     }
 }
 
-// A 2D or 3D record in exactly one cache line (the arrays of 4 KiB or more start on a line: `LineAligned`).
+// A 2D or 3D record in exactly one cache line (the arrays of 4 KiB or more start on a line:
+// `LineAligned`).
 const _: () = assert!(std::mem::size_of::<Meta<2>>() == 64);
 const _: () = assert!(std::mem::size_of::<Meta<3>>() == 64);
 
