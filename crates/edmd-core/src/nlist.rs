@@ -85,9 +85,9 @@ impl<const D: usize> NeighbourLists<D> {
         &self.items[start..start + self.len[i] as usize]
     }
 
-    /// The neighbours of slot `i` followed by the entries after them up to a multiple of four:
-    /// slots too (every entry of the storage is a slot, left by an earlier list where it is not
-    /// one of `i`'s now; the stride is a multiple of 16), for a four-wide scan that masks them off.
+    /// The neighbours of slot `i` followed by `i` itself up to a multiple of four entries (the
+    /// stride is a multiple of 16), for a four-wide scan: against itself a particle has no
+    /// separation and no approach, so those entries never pass its test and need no mask.
     #[inline(always)]
     pub fn of_padded(&self, i: usize) -> &[u32] {
         let start = i * self.cap;
@@ -130,6 +130,16 @@ impl<const D: usize> NeighbourLists<D> {
         let l = self.len[i] as usize;
         self.items[i * self.cap + l] = j;
         self.len[i] += 1;
+        self.pad(i);
+    }
+
+    /// Fills slot `i`'s entries after its list, up to a multiple of four, with `i`
+    /// ([`Self::of_padded`]).
+    #[inline(always)]
+    fn pad(&mut self, i: usize) {
+        let start = i * self.cap;
+        let l = self.len[i] as usize;
+        self.items[start + l..start + ((l + 3) & !3)].fill(i as u32);
     }
 
     /// Removes `j` from `i`'s list (order is not kept).
@@ -141,6 +151,7 @@ impl<const D: usize> NeighbourLists<D> {
         if let Some(k) = list.iter().position(|&x| x == j) {
             list[k] = list[l - 1];
             self.len[i] -= 1;
+            self.pad(i);
         } else {
             debug_assert!(
                 false,
@@ -189,6 +200,7 @@ impl<const D: usize> NeighbourLists<D> {
         let start = i * self.cap;
         self.items[start..start + fresh.len()].copy_from_slice(&fresh);
         self.len[i] = fresh.len() as u32;
+        self.pad(i);
         self.fresh = fresh;
     }
 
@@ -204,6 +216,9 @@ impl<const D: usize> NeighbourLists<D> {
         }
         self.items = items;
         self.cap = cap;
+        for i in 0..self.len.len() {
+            self.pad(i);
+        }
     }
 
     /// Renumbers slots: slot `new` takes the old slot `perm[new]`; `inv` is the inverse permutation.
@@ -241,6 +256,9 @@ impl<const D: usize> NeighbourLists<D> {
                 cur = src;
             }
         }
+        for i in 0..n {
+            self.pad(i);
+        }
     }
 
     /// Heap bytes held by the lists.
@@ -258,6 +276,18 @@ impl<const D: usize> NeighbourLists<D> {
 mod tests {
     use super::*;
 
+    /// Every list is followed by its own slot up to a multiple of four entries.
+    fn assert_padded<const D: usize>(nl: &NeighbourLists<D>) {
+        for i in 0..nl.len.len() {
+            let padded = nl.of_padded(i);
+            assert_eq!(padded.len() % 4, 0);
+            assert!(
+                padded[nl.of(i).len()..].iter().all(|&x| x as usize == i),
+                "slot {i}"
+            );
+        }
+    }
+
     #[test]
     fn lists_stay_symmetric_through_growth_renewal_and_permutation() {
         // 39 neighbours of slot 0 make the lists grow twice (16 -> 32 -> 48).
@@ -269,12 +299,14 @@ mod tests {
         assert_eq!(nl.of(0).len(), 39);
         assert_eq!(nl.of(0), (1..40).collect::<Vec<u32>>().as_slice());
         assert_eq!(nl.of(4), &[0, 3]);
+        assert_padded(&nl);
         // A renewal with no neighbours takes 3 out of every list.
         nl.fresh.clear();
         nl.renew(3);
         assert!(nl.of(3).is_empty());
         assert_eq!(nl.of(4), &[0]);
         assert!(!nl.of(0).contains(&3));
+        assert_padded(&nl);
         // One that keeps 0 and adds 5: 0's list is untouched, 5 gains 4.
         let before = nl.of(0).to_vec();
         nl.fresh = vec![5, 0];
@@ -282,6 +314,7 @@ mod tests {
         assert_eq!(nl.of(4), &[5, 0]);
         assert_eq!(nl.of(0), before.as_slice());
         assert_eq!(nl.of(5), &[0, 4]);
+        assert_padded(&nl);
         nl.fresh = vec![0];
         nl.renew(4);
         assert_eq!(nl.of(5), &[0]);
@@ -293,5 +326,6 @@ mod tests {
         assert_eq!(nl.of(35), &[39]);
         assert_eq!(nl.of(39).len(), 38);
         assert!(nl.of(39).contains(&38) && !nl.of(39).contains(&36));
+        assert_padded(&nl);
     }
 }

@@ -73,11 +73,9 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         let sign = _mm256_set1_pd(-0.0);
         let zero = _mm256_setzero_pd();
         let stride = _mm_set1_epi32(words);
-        // The last group's entries past the list's end are masked off.
-        let len = nl.of(i).len();
-        let (whole, tail) = (len / LANES, (1u32 << (len % LANES)) - 1);
-        for (g, group) in nl.of_padded(i).chunks_exact(LANES).enumerate() {
-            let lanes = if g < whole { 0b1111 } else { tail };
+        // The last group's entries past the list's end are `i` itself, which the test never keeps
+        // (no separation, no approach: b = 0 and, in a sheared box, no gap across the face).
+        for group in nl.of_padded(i).chunks_exact(LANES) {
             let slots = _mm_loadu_si128(group.as_ptr().cast::<__m128i>());
             let at = _mm_mullo_epi32(slots, stride);
             let mut b = zero;
@@ -130,7 +128,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                 _mm256_and_pd(_mm256_cmp_pd::<_CMP_LT_OQ>(b, zero), fits),
                 across,
             );
-            let mut kept = _mm256_movemask_pd(keep) as u32 & lanes;
+            let mut kept = _mm256_movemask_pd(keep) as u32;
             if kept == 0 {
                 continue;
             }
