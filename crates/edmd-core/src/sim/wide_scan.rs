@@ -300,10 +300,15 @@ fn bound_factor(limit: f64) -> f64 {
 #[allow(unsafe_code)]
 #[inline]
 unsafe fn nearest_separation_from(own: __m256d, other: __m256d, half: f64, len: f64) -> __m256d {
-    // raw = other − own = −(own − other): `up` where own − other > half, `down` where < −half.
+    // raw = other − own = −(own − other). `image_near` moves own by `up − down`: len − 0 = len
+    // where own − other > half, 0 − len = −len where < −half, 0 − 0 = 0 elsewhere; own − len,
+    // own − (−len) = own + len and own − 0 = own are those results exactly, so own is replaced by
+    // its two moved copies (loop invariants) where they apply.
     let raw = _mm256_sub_pd(other, own);
     let len = _mm256_set1_pd(len);
-    let up = _mm256_and_pd(_mm256_cmp_pd::<_CMP_LT_OQ>(raw, _mm256_set1_pd(-half)), len);
-    let down = _mm256_and_pd(_mm256_cmp_pd::<_CMP_GT_OQ>(raw, _mm256_set1_pd(half)), len);
-    _mm256_sub_pd(other, _mm256_sub_pd(own, _mm256_sub_pd(up, down)))
+    let up = _mm256_cmp_pd::<_CMP_LT_OQ>(raw, _mm256_set1_pd(-half));
+    let down = _mm256_cmp_pd::<_CMP_GT_OQ>(raw, _mm256_set1_pd(half));
+    let moved = _mm256_blendv_pd(own, _mm256_sub_pd(own, len), up);
+    let moved = _mm256_blendv_pd(moved, _mm256_add_pd(own, len), down);
+    _mm256_sub_pd(other, moved)
 }
