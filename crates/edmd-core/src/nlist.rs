@@ -15,6 +15,10 @@
 
 use crate::Vector;
 
+/// The top bit of a slot's `len` entry: its shell centre is far from every periodic face
+/// ([`NeighbourLists::far`]). Kept in the word a scan reads anyway; the count is the other 31 bits.
+const FAR: u32 = 1 << 31;
+
 /// Per-particle neighbour lists in one flat array of fixed stride, grown when a list overflows.
 #[derive(Debug, Clone)]
 pub(crate) struct NeighbourLists<const D: usize> {
@@ -27,6 +31,7 @@ pub(crate) struct NeighbourLists<const D: usize> {
     /// Shell centres, per slot.
     pub centre: Vec<Vector<D>>,
     cap: usize,
+    /// Per slot, the length of its list, and [`FAR`].
     len: Vec<u32>,
     items: Vec<u32>,
     /// The neighbours a renewal found, before they replace the old list.
@@ -78,11 +83,30 @@ impl<const D: usize> NeighbourLists<D> {
         self.wide = false;
     }
 
+    /// How many neighbours slot `i` has.
+    #[inline(always)]
+    fn count(&self, i: usize) -> usize {
+        (self.len[i] & !FAR) as usize
+    }
+
+    /// Whether slot `i`'s shell centre was found far from every periodic face when it was drawn
+    /// ([`Self::set_far`]): the test of every prediction, answered once per shell.
+    #[inline(always)]
+    pub fn far(&self, i: usize) -> bool {
+        self.len[i] & FAR != 0
+    }
+
+    /// Records [`Self::far`] for slot `i`'s new shell centre.
+    #[inline(always)]
+    pub fn set_far(&mut self, i: usize, far: bool) {
+        self.len[i] = (self.len[i] & !FAR) | if far { FAR } else { 0 };
+    }
+
     /// The neighbours of slot `i`.
     #[inline(always)]
     pub fn of(&self, i: usize) -> &[u32] {
         let start = i * self.cap;
-        &self.items[start..start + self.len[i] as usize]
+        &self.items[start..start + self.count(i)]
     }
 
     /// The neighbours of slot `i` followed by `i` itself up to a multiple of four entries (the
@@ -91,7 +115,7 @@ impl<const D: usize> NeighbourLists<D> {
     #[inline(always)]
     pub fn of_padded(&self, i: usize) -> &[u32] {
         let start = i * self.cap;
-        let len = (self.len[i] as usize + 3) & !3;
+        let len = (self.count(i) + 3) & !3;
         &self.items[start..start + len]
     }
 
@@ -110,7 +134,7 @@ impl<const D: usize> NeighbourLists<D> {
         }
     }
 
-    /// Empties every list.
+    /// Empties every list (and clears every [`Self::far`]).
     pub fn clear(&mut self) {
         self.len.fill(0);
     }
@@ -118,7 +142,7 @@ impl<const D: usize> NeighbourLists<D> {
     /// Adds `j` to `i`'s list and `i` to `j`'s.
     #[inline]
     pub fn link(&mut self, i: usize, j: usize) {
-        if self.len[i] as usize == self.cap || self.len[j] as usize == self.cap {
+        if self.count(i) == self.cap || self.count(j) == self.cap {
             self.grow();
         }
         self.push(i, j as u32);
@@ -127,7 +151,7 @@ impl<const D: usize> NeighbourLists<D> {
 
     #[inline(always)]
     fn push(&mut self, i: usize, j: u32) {
-        let l = self.len[i] as usize;
+        let l = self.count(i);
         self.items[i * self.cap + l] = j;
         self.len[i] += 1;
         self.pad(i);
@@ -138,7 +162,7 @@ impl<const D: usize> NeighbourLists<D> {
     #[inline(always)]
     fn pad(&mut self, i: usize) {
         let start = i * self.cap;
-        let l = self.len[i] as usize;
+        let l = self.count(i);
         self.items[start + l..start + ((l + 3) & !3)].fill(i as u32);
     }
 
@@ -146,7 +170,7 @@ impl<const D: usize> NeighbourLists<D> {
     #[inline]
     fn remove(&mut self, i: usize, j: u32) {
         let start = i * self.cap;
-        let l = self.len[i] as usize;
+        let l = self.count(i);
         let list = &mut self.items[start..start + l];
         if let Some(k) = list.iter().position(|&x| x == j) {
             list[k] = list[l - 1];
@@ -178,7 +202,7 @@ impl<const D: usize> NeighbourLists<D> {
             self.mark[j as usize] = new_only;
         }
         let start = i * self.cap;
-        for k in start..start + self.len[i] as usize {
+        for k in start..start + self.count(i) {
             let j = self.items[k] as usize;
             if self.mark[j] == new_only {
                 self.mark[j] = both;
@@ -191,7 +215,7 @@ impl<const D: usize> NeighbourLists<D> {
         }
         for &j in &fresh {
             if self.mark[j as usize] == new_only {
-                if self.len[j as usize] as usize == self.cap {
+                if self.count(j as usize) == self.cap {
                     self.grow();
                 }
                 self.push(j as usize, i as u32);
@@ -199,7 +223,7 @@ impl<const D: usize> NeighbourLists<D> {
         }
         let start = i * self.cap;
         self.items[start..start + fresh.len()].copy_from_slice(&fresh);
-        self.len[i] = fresh.len() as u32;
+        self.len[i] = (self.len[i] & FAR) | fresh.len() as u32;
         self.pad(i);
         self.fresh = fresh;
     }
@@ -210,7 +234,7 @@ impl<const D: usize> NeighbourLists<D> {
         let cap = self.cap + 16;
         let mut items = vec![0u32; self.len.len() * cap];
         for (i, &l) in self.len.iter().enumerate() {
-            let l = l as usize;
+            let l = (l & !FAR) as usize;
             items[i * cap..i * cap + l]
                 .copy_from_slice(&self.items[i * self.cap..i * self.cap + l]);
         }
@@ -227,7 +251,8 @@ impl<const D: usize> NeighbourLists<D> {
         let n = self.len.len();
         let cap = self.cap;
         for i in 0..n {
-            for x in &mut self.items[i * cap..i * cap + self.len[i] as usize] {
+            let l = self.count(i);
+            for x in &mut self.items[i * cap..i * cap + l] {
                 *x = inv[*x as usize];
             }
         }
@@ -292,6 +317,9 @@ mod tests {
     fn lists_stay_symmetric_through_growth_renewal_and_permutation() {
         // 39 neighbours of slot 0 make the lists grow twice (16 -> 32 -> 48).
         let mut nl = NeighbourLists::<2>::new(40, 0.3, 1.0);
+        // Slot 0's flag rides in its length word: links, growth, renewals and the permutation
+        // below keep it, and it never counts as an entry.
+        nl.set_far(0, true);
         for j in 1..40 {
             nl.link(0, j);
         }
@@ -315,6 +343,7 @@ mod tests {
         assert_eq!(nl.of(0), before.as_slice());
         assert_eq!(nl.of(5), &[0, 4]);
         assert_padded(&nl);
+        assert!(nl.far(0) && !nl.far(4) && nl.of(0).len() == before.len());
         nl.fresh = vec![0];
         nl.renew(4);
         assert_eq!(nl.of(5), &[0]);
@@ -327,5 +356,8 @@ mod tests {
         assert_eq!(nl.of(39).len(), 38);
         assert!(nl.of(39).contains(&38) && !nl.of(39).contains(&36));
         assert_padded(&nl);
+        assert!(nl.far(39) && (0..39).all(|i| !nl.far(i)));
+        nl.set_far(39, false);
+        assert!(!nl.far(39) && nl.of(39).len() == 38);
     }
 }

@@ -122,7 +122,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         if nl.hint_partners || !nl.wide {
             self.prefetch_listed(nl, i);
         }
-        let far = self.far_from_periodic_faces(nl, i);
+        let far = nl.far(i);
         let sliding = !far && B::SHEARED && self.near_sliding_face(nl, i);
         // The scan's variant: (WRAP, SHEAR) = no images far from the faces, sliding images near a
         // sliding face, periodic images elsewhere.
@@ -151,23 +151,6 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             };
         }
         variant!(scan_list, nl.of(i))
-    }
-
-    /// Whether no listed partner of `i` can need a periodic image: its shell centre lies farther
-    /// than a list's reach from every periodic face, and a list's reach plus both shells is below
-    /// half the box. A listed partner's centre (within reach, both centres in the box) is then not
-    /// across a face, both particles lie within their shells (positions are wrapped only with their
-    /// centres), so their raw separation is at most reach plus both shells, below half the box: it
-    /// equals the nearest image that [`Self::image_near`] would take.
-    #[inline(always)]
-    fn far_from_periodic_faces(&self, nl: &NeighbourLists<D>, i: usize) -> bool {
-        centre_far_from_periodic_faces::<D, B>(
-            &self.box_len,
-            &self.half_box,
-            &nl.centre[i],
-            nl.max_reach,
-            nl.max_reach + nl.skin,
-        )
     }
 
     /// The list scan of [`Self::search_list`], with (`WRAP`) or without nearest images; `SHEAR`:
@@ -340,7 +323,15 @@ struct ListParts<'a, const D: usize, B> {
 }
 
 impl<const D: usize, B: Boundary> ListParts<'_, D, B> {
-    /// Centres slot `i`'s shell on its position now (wrapped into the box); returns the position.
+    /// Centres slot `i`'s shell on its position now (wrapped into the box) and records whether its
+    /// scans need periodic images ([`NeighbourLists::far`]); returns the position.
+    ///
+    /// No listed partner of `i` can need an image when the centre lies farther than a list's reach
+    /// from every periodic face and a list's reach plus both shells is below half the box. A
+    /// listed partner's centre (within reach, both centres in the box) is then not across a face,
+    /// both particles lie within their shells (positions are wrapped only with their centres), so
+    /// their raw separation is at most reach plus both shells, below half the box: it equals the
+    /// nearest image that [`Simulation::image_near`] would take.
     fn wrap_centre(&mut self, i: usize) -> Vector<D> {
         let p = &mut self.particles[i];
         let pos = match self.window {
@@ -348,6 +339,14 @@ impl<const D: usize, B: Boundary> ListParts<'_, D, B> {
             None => wrapped_now::<D, B>(p, self.now, self.box_len),
         };
         self.nl.centre[i] = pos;
+        let far = centre_far_from_periodic_faces::<D, B>(
+            self.box_len,
+            self.half_box,
+            &pos,
+            self.nl.max_reach,
+            self.nl.max_reach + self.nl.skin,
+        );
+        self.nl.set_far(i, far);
         pos
     }
 
