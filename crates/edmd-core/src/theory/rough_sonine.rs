@@ -325,19 +325,20 @@ impl RoughSonine {
             None => maxwell,
         }
         .stationary_ratio();
+        // Each evaluation is a pass over every sample: the cumulants at the last θ are kept, not
+        // computed again.
         let at = |theta: f64| self.cumulants(&self.moments(theta));
         let (mut t0, mut t1) = (start, 0.97 * start);
-        let (mut r0, mut r1) = (at(t0).1, at(t1).1);
+        let (mut r0, (mut a, mut r1)) = (at(t0).1, at(t1));
         for _ in 0..20 {
             let t2 = t1 - r1 * (t1 - t0) / (r1 - r0);
             (t0, r0) = (t1, r1);
             t1 = t2;
-            r1 = at(t1).1;
+            (a, r1) = at(t1);
             if (t1 - t0).abs() < 1e-7 * t1 {
                 break;
             }
         }
-        let (a, _) = at(t1);
         SonineState {
             ratio: t1,
             a20: a[0],
