@@ -124,7 +124,7 @@ test-rust:
 	$(CARGO) test $(RUST_TESTS) $(HDF5_FEATURES)
 	$(CARGO) test --workspace --doc $(HDF5_FEATURES)
 
-# The Python and Slurm tests drive the binary `cargo test` builds (test profile: opt-level 3 with debug
+# The Python and Slurm tests drive the binary `cargo test` builds (test profile: opt-level 2 with debug
 # assertions, no LTO): after test-rust it is already there, so `make test` links the sweep code once
 # instead of twice (the LTO release build alone takes minutes on 2 cores). `make run` uses release.
 TEST_BIN := $(CURDIR)/target/debug/edmd

@@ -1,12 +1,10 @@
 //! `edmd refine`: rounds that resume after SIGKILL to the same output, shards and `--plan` that
 //! give what one process gives, a spec that reruns the refinement exactly, and refusals.
 
-mod common;
-
 use std::path::Path;
 use std::time::{Duration, Instant};
 
-use common::{assert_same_output, edmd, listing, run, write};
+use crate::common::{assert_same_output, edmd, listing, run, write};
 
 /// The (ε, box) plane of disks at φ = 0.25 on a 3 × 3 grid; every replica runs to τ = 400.
 fn plane(name: &str) -> String {

@@ -1,13 +1,11 @@
 //! End-to-end tests of what a sweep does when the world misbehaves: a disk that fills, replica files
 //! corrupted after the fact, two runs into one output, command-line misuse and oversized values.
 
-mod common;
-
 use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-use common::{assert_same_output, dump, edmd, listing, run, small_spec, write};
+use crate::common::{assert_same_output, dump, edmd, listing, run, small_spec, write};
 
 fn stderr(o: &std::process::Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()

@@ -6,8 +6,6 @@
 //! specific cases found by hand (a box of 1e100, 4e9 seeds, …) are in `tests/specs/bad/`. `PROPTEST_CASES` sets the number of cases (default 64 here: each case starts
 //! the binary).
 
-mod common;
-
 use proptest::prelude::*;
 use serde_json::{json, Value};
 
@@ -15,7 +13,7 @@ use std::io::Read;
 use std::process::{Output, Stdio};
 use std::time::{Duration, Instant};
 
-use common::{edmd, run, write};
+use crate::common::{edmd, run, write};
 
 /// Runs `edmd args`, killing it after `limit_s` seconds (a spec the estimate calls cheap must be).
 fn run_for(args: &[&str], limit_s: u64) -> Output {

@@ -1,12 +1,10 @@
 //! End-to-end tests of the `edmd` binary: determinism across thread counts, resume after SIGKILL,
 //! sharding and merge, the ready specs, and clear errors for bad input.
 
-mod common;
-
 use std::path::Path;
 use std::time::{Duration, Instant};
 
-use common::{assert_same_output, dump, edmd, listing, run, small_spec, write};
+use crate::common::{assert_same_output, dump, edmd, listing, run, small_spec, write};
 
 /// Replica results do not depend on the number of threads.
 #[test]

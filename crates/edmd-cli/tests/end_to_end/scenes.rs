@@ -1,9 +1,7 @@
 //! End-to-end tests of scenes beyond the smooth monodisperse gas, run from a spec: rough grains,
 //! mixtures, gravity with a thermal floor, wall restitution and rectangular boxes.
 
-mod common;
-
-use common::{read, run_spec};
+use crate::common::{read, run_spec};
 
 /// Perfectly rough elastic grains (ε = β = 1) conserve the total kinetic energy, translational plus
 /// rotational: d T + d_rot T_rot = d T0 at every sample, to round-off (2D: d_rot = 1, ω_z stored as

@@ -1,11 +1,9 @@
 //! The sheared gas from a spec (`"boundary": "lees-edwards"`, `grid.shear_rate`): its files, its
 //! steady state, bad specs, and resume after kill -9.
 
-mod common;
-
 use std::time::{Duration, Instant};
 
-use common::{assert_same_output, edmd, listing, read, run, run_spec, write};
+use crate::common::{assert_same_output, edmd, listing, read, run, run_spec, write};
 
 fn attr(path: &std::path::Path, name: &str) -> f64 {
     let file = hdf5::File::open(path).unwrap();

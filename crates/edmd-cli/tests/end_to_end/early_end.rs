@@ -1,11 +1,9 @@
 //! Runs that must not end `done` by mistake, and output files that must never be written through
 //! a symbolic link. Each test fails on a build without its fix (`EDMD_UNDER_TEST=OLD_BINARY`).
 
-mod common;
-
 use std::path::Path;
 
-use common::{edmd, run, write};
+use crate::common::{edmd, run, write};
 
 fn stderr(o: &std::process::Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
@@ -33,7 +31,7 @@ fn a_symlinked_lock_is_refused_and_its_target_kept() {
     let spec = write(
         tmp.path(),
         "s.json",
-        &common::small_spec("lock", &[0.9], 64, 1, 2.0),
+        &crate::common::small_spec("lock", &[0.9], 64, 1, 2.0),
     );
     let precious = tmp.path().join("precious.txt");
     let keep = "a file the user cares about\n";
@@ -89,7 +87,7 @@ fn planted_links_under_our_temporary_names_are_not_followed() {
     let spec = write(
         tmp.path(),
         "s.json",
-        &common::small_spec("parts", &[0.9], 64, 1, 2.0),
+        &crate::common::small_spec("parts", &[0.9], 64, 1, 2.0),
     );
     let precious = tmp.path().join("precious.txt");
     std::fs::write(&precious, "keep\n").unwrap();
@@ -114,7 +112,7 @@ fn planted_links_under_our_temporary_names_are_not_followed() {
     assert!(o.status.success(), "{}", stderr(&o));
     assert_eq!(std::fs::read_to_string(&precious).unwrap(), "keep\n");
     assert!(b.join("replicas/r00000.h5").is_file());
-    assert!(!common::listing(&b.join("replicas"))
+    assert!(!crate::common::listing(&b.join("replicas"))
         .iter()
         .any(|f| f.ends_with(".part")));
 }
