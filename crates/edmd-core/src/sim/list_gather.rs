@@ -100,17 +100,15 @@ impl<const D: usize> NeighbourLists<D> {
         );
         #[cfg(target_arch = "x86_64")]
         if nl.wide {
-            // The occupants in walking order, then the test on four at a time.
+            // The occupants in walking order, `i` and (with `later_only`) those below it
+            // included: the test on four at a time masks them off.
             let mut candidates = std::mem::take(&mut nl.candidates);
             candidates.clear();
             for &first in &firsts[..count] {
                 let mut k = first;
                 while k != NONE {
-                    let j = k;
-                    k = particles[j as usize].next_in_cell;
-                    if j as usize != i && !(later_only && (j as usize) < i) {
-                        candidates.push(j);
-                    }
+                    candidates.push(k);
+                    k = particles[k as usize].next_in_cell;
                 }
             }
             let len = candidates.len();
@@ -120,10 +118,24 @@ impl<const D: usize> NeighbourLists<D> {
             // offsets fit; the candidates are slots.
             #[allow(unsafe_code)]
             unsafe {
-                if wrap {
-                    within_reach_wide::<D, B, true>(nl, space, &candidates, len, i, &mut found)
-                } else {
-                    within_reach_wide::<D, B, false>(nl, space, &candidates, len, i, &mut found)
+                macro_rules! test {
+                    ($wrap:literal, $same:literal) => {
+                        within_reach_wide::<D, B, $wrap, $same>(
+                            nl,
+                            space,
+                            &candidates,
+                            len,
+                            i,
+                            later_only,
+                            &mut found,
+                        )
+                    };
+                }
+                match (wrap, nl.same_radius) {
+                    (true, true) => test!(true, true),
+                    (true, false) => test!(true, false),
+                    (false, true) => test!(false, true),
+                    (false, false) => test!(false, false),
                 }
             }
             nl.candidates = candidates;

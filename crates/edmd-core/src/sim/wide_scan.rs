@@ -73,6 +73,8 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         let sign = _mm256_set1_pd(-0.0);
         let zero = _mm256_setzero_pd();
         let stride = _mm_set1_epi32(words);
+        let own: [Image; D] =
+            std::array::from_fn(|a| Image::new(pos_i[a], self.box_len[a], self.half_box[a]));
         // The last group's entries past the list's end are `i` itself, which the test never keeps
         // (no separation, no approach: b = 0 and, in a sheared box, no gap across the face).
         for group in nl.of_padded(i).chunks_exact(LANES) {
@@ -93,16 +95,14 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                 let r0 = _mm256_i32gather_pd::<8>(base.add(r0_at + a), at);
                 let vel = _mm256_i32gather_pd::<8>(base.add(vel_at + a), at);
                 let pos = _mm256_add_pd(r0, _mm256_mul_pd(vel, now_v));
-                let own = _mm256_set1_pd(pos_i[a]);
                 let d = if WRAP && !B::is_wall(a) {
                     if SHEAR && a == 1 {
-                        let raw = _mm256_andnot_pd(sign, _mm256_sub_pd(own, pos));
-                        let half = _mm256_set1_pd(self.half_box[a]);
-                        across = _mm256_cmp_pd::<_CMP_GT_OQ>(raw, half);
+                        let raw = _mm256_andnot_pd(sign, _mm256_sub_pd(own[a].at, pos));
+                        across = _mm256_cmp_pd::<_CMP_GT_OQ>(raw, own[a].half);
                     }
-                    nearest_separation_from(own, pos, self.half_box[a], self.box_len[a])
+                    own[a].separation_from(pos)
                 } else {
-                    _mm256_sub_pd(pos, own)
+                    _mm256_sub_pd(pos, own[a].at)
                 };
                 let dv = _mm256_sub_pd(vel, _mm256_set1_pd(pi.vel[a]));
                 (ds[a], dvs[a], vels[a]) = (d, dv, vel);
@@ -168,20 +168,29 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
 
 /// The test of a list renewal's search on four candidates at once: hands `found`, in the order of
 /// `candidates[..len]`, each whose shell centre lies within `σ_ij + δ` of slot `i`'s (with nearest
-/// images if `WRAP`), by the operations of the one-by-one test (`NeighbourLists::gather`).
+/// images if `WRAP`), by the operations of the one-by-one test (`NeighbourLists::gather`). Slot `i`
+/// itself, and with `later_only` every slot below it, is masked off here, so that the walk that
+/// lists the candidates needs no test per occupant. `SAME`: every particle has the same radius
+/// ([`NeighbourLists::same_radius`]), so the reach is one number and no radius is read.
 ///
 /// # Safety
 /// As [`Simulation::scan_list_wide`]; every entry of `candidates` is a slot, and its length is a
 /// multiple of four.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-#[allow(unsafe_code)]
-pub(super) unsafe fn within_reach_wide<const D: usize, B: Boundary, const WRAP: bool>(
+#[allow(unsafe_code, clippy::too_many_arguments)]
+pub(super) unsafe fn within_reach_wide<
+    const D: usize,
+    B: Boundary,
+    const WRAP: bool,
+    const SAME: bool,
+>(
     nl: &mut NeighbourLists<D>,
     space: &Space<'_, D, B>,
     candidates: &[u32],
     len: usize,
     i: usize,
+    later_only: bool,
     found: &mut impl FnMut(&mut NeighbourLists<D>, u32),
 ) {
     const LANES: usize = 4;
@@ -192,25 +201,37 @@ pub(super) unsafe fn within_reach_wide<const D: usize, B: Boundary, const WRAP: 
     // radii of slots (below n, whose word offsets fit an i32).
     let ri = _mm256_set1_pd(space.particles[i].radius);
     let skin = _mm256_set1_pd(nl.skin);
+    // (ri + ri) + δ is the one-by-one test's `ri + rj + δ` where every rj is ri, to the bit.
+    let same_reach = _mm256_add_pd(_mm256_add_pd(ri, ri), skin);
+    let same_reach2 = _mm256_mul_pd(same_reach, same_reach);
     let stride = _mm_set1_epi32(words);
     let centre_stride = _mm_set1_epi32(D as i32);
+    let own_slot = _mm_set1_epi32(i as i32);
+    let own: [Image; D] =
+        std::array::from_fn(|a| Image::new(centre[a], space.box_len[a], space.half_box[a]));
     let (whole, tail) = (len / LANES, (1u32 << (len % LANES)) - 1);
     for (g, group) in candidates.chunks_exact(LANES).enumerate() {
-        let lanes = if g < whole { 0b1111 } else { tail };
         let slots = _mm_loadu_si128(group.as_ptr().cast::<__m128i>());
+        // Lanes past the end, slot `i` itself and, for `later_only`, the slots below it.
+        let skip = if later_only {
+            _mm_xor_si128(_mm_cmpgt_epi32(slots, own_slot), _mm_set1_epi32(-1))
+        } else {
+            _mm_cmpeq_epi32(slots, own_slot)
+        };
+        let lanes = if g < whole { 0b1111 } else { tail };
+        let lanes = lanes & !(_mm_movemask_ps(_mm_castsi128_ps(skip)) as u32);
         let at = _mm_mullo_epi32(slots, centre_stride);
         // Taken anew for each group: `found` may change the lists (never the centres).
         let centres = nl.centre.as_ptr().cast::<f64>();
         let mut d2 = _mm256_setzero_pd();
         // Separations taken partner minus own, the exact negatives of the one-by-one test's: the
         // same squares.
-        for a in 0..D {
+        for (a, own) in own.iter().enumerate() {
             let cj = _mm256_i32gather_pd::<8>(centres.add(a), at);
-            let own = _mm256_set1_pd(centre[a]);
             let d = if WRAP && !B::is_wall(a) {
-                nearest_separation_from(own, cj, space.half_box[a], space.box_len[a])
+                own.separation_from(cj)
             } else {
-                _mm256_sub_pd(cj, own)
+                _mm256_sub_pd(cj, own.at)
             };
             d2 = if a == 0 {
                 _mm256_mul_pd(d, d)
@@ -218,15 +239,74 @@ pub(super) unsafe fn within_reach_wide<const D: usize, B: Boundary, const WRAP: 
                 _mm256_add_pd(d2, _mm256_mul_pd(d, d))
             };
         }
-        let radius = _mm256_i32gather_pd::<8>(records.add(2 * D), _mm_mullo_epi32(slots, stride));
-        let reach = _mm256_add_pd(_mm256_add_pd(ri, radius), skin);
-        let near = _mm256_cmp_pd::<_CMP_LT_OQ>(d2, _mm256_mul_pd(reach, reach));
+        let reach2 = if SAME {
+            same_reach2
+        } else {
+            let radius =
+                _mm256_i32gather_pd::<8>(records.add(2 * D), _mm_mullo_epi32(slots, stride));
+            let reach = _mm256_add_pd(_mm256_add_pd(ri, radius), skin);
+            _mm256_mul_pd(reach, reach)
+        };
+        let near = _mm256_cmp_pd::<_CMP_LT_OQ>(d2, reach2);
         let mut kept = _mm256_movemask_pd(near) as u32 & lanes;
         while kept != 0 {
             let k = kept.trailing_zeros() as usize;
             kept &= kept - 1;
             found(nl, group[k]);
         }
+    }
+}
+
+/// One own coordinate along one axis on four lanes, with its two periodic images, for
+/// [`Image::separation_from`]: built once per search instead of once per group.
+#[cfg(target_arch = "x86_64")]
+#[derive(Clone, Copy)]
+struct Image {
+    /// The own coordinate.
+    at: __m256d,
+    /// It moved down and up by the box side.
+    down: __m256d,
+    up: __m256d,
+    /// The half side and its negative.
+    half: __m256d,
+    minus_half: __m256d,
+}
+
+#[cfg(target_arch = "x86_64")]
+impl Image {
+    /// The coordinate `own` along an axis of side `len` and half side `half` (unused along a
+    /// wall axis).
+    #[target_feature(enable = "avx2")]
+    #[allow(unsafe_code)]
+    #[inline]
+    unsafe fn new(own: f64, len: f64, half: f64) -> Self {
+        let (at, len) = (_mm256_set1_pd(own), _mm256_set1_pd(len));
+        Image {
+            at,
+            down: _mm256_sub_pd(at, len),
+            up: _mm256_add_pd(at, len),
+            half: _mm256_set1_pd(half),
+            minus_half: _mm256_set1_pd(-half),
+        }
+    }
+
+    /// `other − image_near(own, other)` on four lanes: `other` minus `own` moved by the side
+    /// towards it where they lie more than half a side apart, by the operations of `image_near`
+    /// with the sign flipped (exactly the negative of `image_near(own, other) − other`).
+    #[target_feature(enable = "avx2")]
+    #[allow(unsafe_code)]
+    #[inline]
+    unsafe fn separation_from(&self, other: __m256d) -> __m256d {
+        // raw = other − own = −(own − other). `image_near` moves own by `up − down`: len − 0 = len
+        // where own − other > half, 0 − len = −len where < −half, 0 − 0 = 0 elsewhere; own − len,
+        // own − (−len) = own + len and own − 0 = own are those results exactly, so own is replaced
+        // by its two moved copies (built once per search) where they apply.
+        let raw = _mm256_sub_pd(other, self.at);
+        let below = _mm256_cmp_pd::<_CMP_LT_OQ>(raw, self.minus_half);
+        let above = _mm256_cmp_pd::<_CMP_GT_OQ>(raw, self.half);
+        let moved = _mm256_blendv_pd(self.at, self.down, below);
+        let moved = _mm256_blendv_pd(moved, self.up, above);
+        _mm256_sub_pd(other, moved)
     }
 }
 
@@ -287,28 +367,4 @@ unsafe fn pair_times<const D: usize>(
 #[inline(always)]
 fn bound_factor(limit: f64) -> f64 {
     2.0 * limit * (1.0 + 1e-9) * (1.0 + 1e-12)
-}
-
-/// `other − image_near(own, other)` along one periodic axis of side `len` on four lanes: `other`
-/// minus `own` moved by `len` towards it where they lie more than `half` apart, by the operations
-/// of `image_near` with the sign flipped (exactly the negative of `image_near(own, other) − other`).
-///
-/// # Safety
-/// The processor must support AVX2.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-#[allow(unsafe_code)]
-#[inline]
-unsafe fn nearest_separation_from(own: __m256d, other: __m256d, half: f64, len: f64) -> __m256d {
-    // raw = other − own = −(own − other). `image_near` moves own by `up − down`: len − 0 = len
-    // where own − other > half, 0 − len = −len where < −half, 0 − 0 = 0 elsewhere; own − len,
-    // own − (−len) = own + len and own − 0 = own are those results exactly, so own is replaced by
-    // its two moved copies (loop invariants) where they apply.
-    let raw = _mm256_sub_pd(other, own);
-    let len = _mm256_set1_pd(len);
-    let up = _mm256_cmp_pd::<_CMP_LT_OQ>(raw, _mm256_set1_pd(-half));
-    let down = _mm256_cmp_pd::<_CMP_GT_OQ>(raw, _mm256_set1_pd(half));
-    let moved = _mm256_blendv_pd(own, _mm256_sub_pd(own, len), up);
-    let moved = _mm256_blendv_pd(moved, _mm256_add_pd(own, len), down);
-    _mm256_sub_pd(other, moved)
 }
