@@ -105,7 +105,7 @@ lint: lint-rust lint-python
 
 lint-rust:
 	$(CARGO) fmt --all -- --check
-	$(CARGO) clippy --workspace --all-targets --features edmd/bench $(HDF5_FEATURES) -- -D warnings
+	$(CARGO) clippy --workspace --all-targets --features edmd/bench,edmd/accuracy $(HDF5_FEATURES) -- -D warnings
 
 lint-python:
 	$(VENV)/bin/ruff check analysis scripts tests
@@ -113,7 +113,7 @@ lint-python:
 # Daily work: format check, lints and the Rust tests, without the Python, Slurm and benchmark parts.
 check:
 	$(CARGO) fmt --all -- --check
-	$(CARGO) clippy --workspace --all-targets --features edmd/bench $(HDF5_FEATURES) -- -D warnings
+	$(CARGO) clippy --workspace --all-targets --features edmd/bench,edmd/accuracy $(HDF5_FEATURES) -- -D warnings
 	$(CARGO) test $(RUST_TESTS) $(HDF5_FEATURES)
 
 # The Rust tests: unit, integration and doc tests (the examples are compiled by clippy, the criterion
@@ -191,7 +191,7 @@ bench-nightly:
 
 # Run time against error: collapse remedies, statistics, classification (table + PNG in bench-out/accuracy).
 bench-accuracy: deps
-	$(CARGO) build --release -q --bin edmd-accuracy -p edmd
+	$(CARGO) build --release -q --bin edmd-accuracy -p edmd --features accuracy
 	$(CARGO) build --release -q -p edmd-cli --bin edmd
 	$(VENV)/bin/python scripts/bench-accuracy.py -o bench-out/accuracy
 
