@@ -120,18 +120,13 @@ impl<const D: usize> NeighbourLists<D> {
     }
 
     /// Asks for what a prediction of slot `i` reads of the lists: the first cache line of its list,
-    /// its length and its shell centre (the next event's particle will read them).
+    /// its length and its shell centre (the next event's particle will read them). No bounds
+    /// checks: a prefetch never faults ([`crate::prefetch::prefetch_at`]).
     #[inline(always)]
     pub fn prefetch(&self, i: usize) {
-        if let (Some(first), Some(len), Some(centre)) = (
-            self.items.get(i * self.cap),
-            self.len.get(i),
-            self.centre.get(i),
-        ) {
-            crate::prefetch::prefetch(first);
-            crate::prefetch::prefetch(len);
-            crate::prefetch::prefetch(centre);
-        }
+        crate::prefetch::prefetch_at(&self.items, i.wrapping_mul(self.cap));
+        crate::prefetch::prefetch_at(&self.len, i);
+        crate::prefetch::prefetch_at(&self.centre, i);
     }
 
     /// Empties every list (and clears every [`Self::far`]).

@@ -129,7 +129,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             let pk = &self.particles[k as usize];
             let next = pk.next_in_cell;
             if next != NONE {
-                crate::prefetch::prefetch(&self.particles[next as usize]);
+                crate::prefetch::prefetch_at(&self.particles, next as usize);
             }
             // The particle itself (in its own cell of a full search) is no partner.
             if k as usize != i {

@@ -23,6 +23,7 @@
 use super::{Search, Simulation};
 use crate::calendar::{Calendar, Hints};
 use crate::cells::NONE;
+use crate::prefetch::prefetch_at;
 use crate::{Boundary, CollisionRule};
 
 /// The state of the large-system look-ahead.
@@ -41,8 +42,8 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     pub(super) fn hint_popped<S: Search>(&mut self) {
         let hints = self.calendar.hints();
         if let Some(next) = hints.next_hint() {
-            crate::prefetch::prefetch(&self.particles[next as usize]);
-            crate::prefetch::prefetch(&self.meta[next as usize]);
+            prefetch_at(&self.particles, next as usize);
+            prefetch_at(&self.meta, next as usize);
             if let Some(nl) = S::lists(&self.nl) {
                 nl.prefetch(next as usize);
             }
@@ -91,7 +92,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     #[inline(always)]
     pub(super) fn prefetch_listed(&self, nl: &crate::nlist::NeighbourLists<D>, i: usize) {
         for &k in nl.of(i) {
-            crate::prefetch::prefetch(&self.particles[k as usize]);
+            prefetch_at(&self.particles, k as usize);
         }
     }
 
@@ -112,8 +113,8 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         let e = &self.meta[next as usize].ev;
         if e.coll_t <= e.aux_t && e.partner != NONE {
             let j = e.partner as usize;
-            crate::prefetch::prefetch(&self.particles[j]);
-            crate::prefetch::prefetch(&self.meta[j]);
+            prefetch_at(&self.particles, j);
+            prefetch_at(&self.meta, j);
             nl.prefetch(j);
         }
     }

@@ -86,8 +86,8 @@ impl<const D: usize> NeighbourLists<D> {
         }
         for &k in &firsts[..count] {
             if k != NONE {
-                crate::prefetch::prefetch(&particles[k as usize]);
-                crate::prefetch::prefetch(&nl.centre[k as usize]);
+                crate::prefetch::prefetch_at(particles, k as usize);
+                crate::prefetch::prefetch_at(&nl.centre, k as usize);
             }
         }
         // Centres farther than the reach from every periodic face have no neighbour across one.

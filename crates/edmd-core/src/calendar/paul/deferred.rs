@@ -18,7 +18,7 @@ impl PaulCalendar {
                 self.in_buckets += 1;
                 return;
             }
-            crate::prefetch::prefetch(&self.buckets[b]);
+            crate::prefetch::prefetch_at(&self.buckets, b);
             if self.deferred.len() == DEFER {
                 self.link_deferred(e);
             }

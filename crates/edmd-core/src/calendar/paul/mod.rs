@@ -242,7 +242,10 @@ impl PaulCalendar {
     fn prefetch_ahead<E: HasEntry>(&self, e: &[E]) {
         let mask = self.nb - 1;
         let next = &self.buckets[(self.cur.wrapping_add(1) as u64 as usize) & mask];
-        crate::prefetch::prefetch(&self.buckets[(self.cur.wrapping_add(2) as u64 as usize) & mask]);
+        crate::prefetch::prefetch_at(
+            &self.buckets,
+            (self.cur.wrapping_add(2) as u64 as usize) & mask,
+        );
         for &i in &next.ids[..(next.len as usize).min(INLINE)] {
             if let Some(x) = e.get(i as usize) {
                 crate::prefetch::prefetch(x.entry());
@@ -408,12 +411,12 @@ impl Hints for PaulCalendar {
         let k = self.bucket_of(t) - self.cur;
         if k > 0 && (k as u64) < self.nb as u64 {
             let b = ((self.cur + k) as u64 as usize) & (self.nb - 1);
-            crate::prefetch::prefetch(&self.buckets[b]);
+            crate::prefetch::prefetch_at(&self.buckets, b);
         }
         if let Some(x) = e.get(i as usize) {
             let l = x.entry().loc;
-            if l & (IN_CURRENT | IN_OVERFLOW) == 0 && (l as usize) < self.buckets.len() {
-                crate::prefetch::prefetch(&self.buckets[l as usize]);
+            if l & (IN_CURRENT | IN_OVERFLOW) == 0 {
+                crate::prefetch::prefetch_at(&self.buckets, l as usize);
             }
         }
     }
@@ -427,7 +430,7 @@ impl Hints for PaulCalendar {
     #[inline(always)]
     fn prefetch_bucket(&self, k: usize) {
         let b = (self.cur.wrapping_add(k as i64) as u64 as usize) & (self.nb - 1);
-        crate::prefetch::prefetch(&self.buckets[b]);
+        crate::prefetch::prefetch_at(&self.buckets, b);
     }
 
     #[inline(always)]
