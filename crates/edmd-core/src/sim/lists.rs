@@ -15,6 +15,18 @@ use crate::{Boundary, CollisionRule, Particle, Vector};
 /// Partners per group of the list scan's cheap test (two SSE2 registers of `f64`).
 const LANES: usize = 2;
 
+/// The smaller of two times that are never NaN (a scan's bounds: differences of event times and
+/// now): `f64::min` without its NaN handling, three instructions less on x86-64 for the same value
+/// (for equal arguments either is the same number; a scan's bounds are never −0).
+#[inline(always)]
+pub(super) fn smaller(a: f64, b: f64) -> f64 {
+    if b < a {
+        b
+    } else {
+        a
+    }
+}
+
 /// Whether a pair with `b = r·v` and `room = σ² − |r|²` may touch within `limit` (≥ 0) of now: a
 /// contact at t ≤ limit needs b < 0 and σ² − r² = 2bt + v²t² ≥ 2b·limit. A test without the root
 /// that rejects most partners, with a margin for round-off so that it never rejects one the root
@@ -176,7 +188,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         let pi = self.particles[i];
         let pos_i = pi.r0 + pi.vel * now;
         let vi2 = pi.vel.norm_squared();
-        let mut limit = (best.0 - now).min(horizon - now);
+        let mut limit = smaller(best.0 - now, horizon - now);
         // A last, partial group is filled up with `i` itself, which the test rejects (b = 0).
         let full = list.len() / LANES * LANES;
         let mut tail = [i as u32; LANES];
@@ -302,7 +314,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             let t = self.now + pair_time(dr, dv, sigma, v2);
             if t < best.0 {
                 *best = (t, j);
-                *limit = limit.min(t - self.now);
+                *limit = smaller(*limit, t - self.now);
             }
         }
     }

@@ -14,7 +14,7 @@
 use std::arch::x86_64::*;
 
 use super::list_gather::Space;
-use super::lists::rootless_test;
+use super::lists::{rootless_test, smaller};
 use super::Simulation;
 use crate::calendar::Calendar;
 use crate::nlist::NeighbourLists;
@@ -58,7 +58,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         let pi = self.particles[i];
         let pos_i = pi.r0 + pi.vel * now;
         let vi2 = pi.vel.norm_squared();
-        let mut limit = (best.0 - now).min(horizon - now);
+        let mut limit = smaller(best.0 - now, horizon - now);
         let words = (std::mem::size_of::<Particle<D>>() / 8) as i32;
         let base = self.particles.as_ptr().cast::<f64>();
         // Offsets, in words, of the fields of a record (`Particle` is `repr(C)`).
@@ -156,7 +156,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                     let t = now + lane_t[k];
                     if t < best.0 {
                         best = (t, group[k]);
-                        limit = limit.min(t - now);
+                        limit = smaller(limit, t - now);
                         factor = _mm256_set1_pd(bound_factor(limit));
                     }
                 }
