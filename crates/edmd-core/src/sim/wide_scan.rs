@@ -276,6 +276,9 @@ struct Image {
 impl Image {
     /// The coordinate `own` along an axis of side `len` and half side `half` (unused along a
     /// wall axis).
+    ///
+    /// # Safety
+    /// The processor must support AVX2.
     #[target_feature(enable = "avx2")]
     #[allow(unsafe_code)]
     #[inline]
@@ -293,6 +296,9 @@ impl Image {
     /// `other − image_near(own, other)` on four lanes: `other` minus `own` moved by the side
     /// towards it where they lie more than half a side apart, by the operations of `image_near`
     /// with the sign flipped (exactly the negative of `image_near(own, other) − other`).
+    ///
+    /// # Safety
+    /// The processor must support AVX2.
     #[target_feature(enable = "avx2")]
     #[allow(unsafe_code)]
     #[inline]
