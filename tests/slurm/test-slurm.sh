@@ -184,18 +184,12 @@ for _ in $(seq 400); do
     sleep 0.05
 done
 [ -n "$victim" ] || { echo "test-slurm: error: no array task ever ran" >&2; exit 1; }
-# Cancelled while one of its replicas is in flight (the task with index k runs replicas k and k + 4,
-# about a second each, in the order of their estimated cost): that replica at least is lost and must
-# be redone by the rerun.
-k=${victim#*_}
-in_flight() {
-    [ -e "$(printf '%s/r%05d.h5.part' "$work/out/b/replicas" "$k")" ] \
-        || [ -e "$(printf '%s/r%05d.h5.part' "$work/out/b/replicas" "$((k + 4))")" ]
-}
-for _ in $(seq 200); do in_flight && break; sleep 0.05; done
-in_flight || { echo "test-slurm: error: task $victim never started a replica" >&2; exit 1; }
+# Cancelled 0.4 s after it shows as running: the task runs 2 replicas of about a second each (one core
+# of the test build), so it is caught mid-run; should a machine finish both by then, the check after
+# the cancel fails and names the spec as too short.
+sleep 0.4
 scancel "$victim"
-say "cancelled running task $victim with a replica in flight"
+say "cancelled running task $victim"
 wait_idle
 done_files=$(ls "$work/out/b/replicas" 2>/dev/null | grep -c '\.h5$' || true)
 [ "$done_files" -lt "$replicas" ] || { echo "test-slurm: error: the cancelled task's replicas all finished anyway ($done_files of $replicas); the spec is too short for this test" >&2; exit 1; }
