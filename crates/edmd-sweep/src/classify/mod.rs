@@ -390,6 +390,3 @@ pub fn settled(s: &OrderSeries, th: &Thresholds, theory: &Theory) -> Option<Clas
     let p = predicates(s, &dh, th, theory.per_cell);
     sustained(&s.tau, &p.clustering, th.settle_window).map(|_| Class::Clustering)
 }
-
-#[cfg(test)]
-mod tests;

@@ -476,6 +476,3 @@ pub fn refinement_replicas(spec: &Spec) -> usize {
 pub fn rounds(spec: &Spec) -> usize {
     spec.refinement.as_ref().map_or(0, |r| r.rounds.len())
 }
-
-#[cfg(test)]
-mod tests;

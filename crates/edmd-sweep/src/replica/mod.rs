@@ -21,7 +21,9 @@ pub use scene_theory::{
     density_profile_theory, rotational_ratio_theory, shear_theory, species_temperature_theory,
     ProfileTheory,
 };
-pub use shear::{profile_bins, ShearSeries};
+pub use shear::{
+    classify as classify_shear, contrast as density_contrast, profile_bins, ShearSeries,
+};
 use simulate::simulate;
 
 /// Observables sampled at the points of the schedule.

@@ -91,22 +91,3 @@ pub(super) fn check(text: &str) -> Result<(), String> {
         _ => Ok(()),
     }
 }
-
-#[cfg(test)]
-mod tests {
-    #[test]
-    fn repeated_keys_are_found_at_any_depth() {
-        assert!(super::check(r#"{"grid": {"eps": [1, 0.9]}, "name": "x"}"#).is_ok());
-        let e = super::check(r#"{"grid": {"eps": [1, 0.95, 0.9], "eps": 0.5}}"#).unwrap_err();
-        assert_eq!(
-            e,
-            "grid.eps: duplicate key `eps` (a key may appear once in an object)"
-        );
-        let e = super::check(r#"{"grid": [{"species": [{"mass": 1, "mass": 2}]}]}"#).unwrap_err();
-        assert!(
-            e.starts_with("grid[0].species[0].mass: duplicate key"),
-            "{e}"
-        );
-        assert!(super::check("not json").is_ok());
-    }
-}

@@ -29,7 +29,10 @@ pub use expand::{aspect_label, ball_volume, close_packing, stable_hash, Density,
 pub use one_or_many::OneOrMany;
 pub use refinement::{RefineAxis, Refinement};
 pub use sampling::{SampleSpec, SnapshotSpec};
-pub use species::{label as species_label, AspectAxis, ListAxis, Mixture, Species, SpeciesAxis};
+pub use species::{
+    counts as species_counts, label as species_label, AspectAxis, ListAxis, Mixture, Species,
+    SpeciesAxis,
+};
 
 /// The largest spec file read (1 MiB): a spec is a few hundred bytes; this bounds what a wrong path
 /// (`/dev/zero`, a trajectory file) can make the reader allocate.
@@ -445,6 +448,3 @@ impl Spec {
         out
     }
 }
-
-#[cfg(test)]
-mod tests;

@@ -1,6 +1,6 @@
 //! The classifier on synthetic series: each class, its onsets, and the settled label.
 
-use super::*;
+use edmd_sweep::classify::*;
 
 /// A series sampled every τ = 1 with Haff cooling at rate `k` and given order parameters.
 fn series(n: usize, k: f64, f: impl Fn(f64) -> (f64, f64, f64)) -> OrderSeries {

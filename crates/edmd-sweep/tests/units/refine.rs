@@ -1,5 +1,6 @@
-use super::*;
-use crate::record::Record;
+use edmd_sweep::record::{Record, Status};
+use edmd_sweep::refine::*;
+use edmd_sweep::spec::{RefineAxis, Spec};
 
 fn spec(grid: &str) -> Spec {
     Spec::from_json(&format!(
@@ -14,7 +15,7 @@ fn records(spec: &Spec, label: impl Fn(f64, f64) -> &'static str) -> Vec<Record>
         .iter()
         .map(|r| {
             let mut rec = Record::missing(r);
-            rec.status = crate::record::Status::Done;
+            rec.status = Status::Done;
             rec.class = label(r.eps, r.side()).into();
             rec
         })

@@ -1,6 +1,6 @@
 //! Unit tests of the spec types.
 
-use super::Spec;
+use edmd_sweep::spec::Spec;
 
 /// The committed schema is the one the types generate: regenerate it with
 /// `cargo run -p edmd-cli -- spec-schema > docs/sweep-spec.schema.json` after changing a type.
