@@ -11,7 +11,7 @@ fn dense_strongly_inelastic_gas_collapses_and_the_run_ends() {
     let mut p = InitParams::<2>::with_packing(4096, 0.5).unwrap();
     p.seed = 1;
     let mut sim = p
-        .build::<Periodic, _>(ConstantRestitution::new(0.3).unwrap())
+        .build::<Periodic, _>(Rule::new(ConstantRestitution::new(0.3).unwrap()))
         .unwrap();
     let start = std::time::Instant::now();
     let end = sim.run(Stop::Tau(500.0));
@@ -75,7 +75,7 @@ fn three_particle_collisions(eps: f64) -> (usize, bool) {
     let mut sim = Simulation::<2, Walls, _>::new(
         Vector::<2>::new(40.0, 10.0),
         parts,
-        ConstantRestitution::new(eps).unwrap(),
+        Rule::new(ConstantRestitution::new(eps).unwrap()),
         SimParams::default(),
     )
     .unwrap();

@@ -69,7 +69,9 @@ fn inelastic_collisions_conserve_momentum_and_lose_energy() {
     let mut p = InitParams::<3>::with_packing(2000, 0.2).unwrap();
     p.seed = 5;
     let mut sim = p
-        .build::<Periodic, _>(edmd_core::ConstantRestitution::new(0.8).unwrap())
+        .build::<Periodic, _>(edmd_core::Rule::new(
+            edmd_core::ConstantRestitution::new(0.8).unwrap(),
+        ))
         .unwrap();
     let mut last = sim.kinetic_energy();
     for _ in 0..50 {

@@ -21,7 +21,7 @@ use edmd_core::{
 
 /// One disk moving at speed 1 between walls 10 apart (contacts 9 apart) whose restitution is 1/2,
 /// after `bounces` wall contacts.
-fn bouncing_disk(bounces: u32) -> Simulation<2, Walls, ConstantRestitution> {
+fn bouncing_disk(bounces: u32) -> Simulation<2, Walls, Rule> {
     let parts = vec![ParticleInit {
         pos: Vector::<2>::new(5.0, 5.0),
         vel: Vector::<2>::new(1.0, 0.0),
@@ -35,7 +35,7 @@ fn bouncing_disk(bounces: u32) -> Simulation<2, Walls, ConstantRestitution> {
     let mut sim = Simulation::<2, Walls, _>::new(
         Vector::<2>::new(10.0, 10.0),
         parts,
-        ConstantRestitution::new(0.5).unwrap(),
+        Rule::new(ConstantRestitution::new(0.5).unwrap()),
         params,
     )
     .unwrap();
@@ -141,7 +141,7 @@ fn periodic_gas_cools_past_the_momentum_round_off_floor() {
     let mut p = InitParams::<2>::in_box(183, Vector::<2>::new(24.0, 24.0));
     p.seed = 3;
     let mut sim = p
-        .build::<Periodic, _>(ConstantRestitution::new(0.9).unwrap())
+        .build::<Periodic, _>(Rule::new(ConstantRestitution::new(0.9).unwrap()))
         .unwrap();
     sim.run(Stop::Tau(600.0));
     let before = *sim.counters();

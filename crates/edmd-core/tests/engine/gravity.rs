@@ -26,13 +26,11 @@ fn ball_on_elastic_floor_returns_to_its_height() {
     let mut sim = Simulation::<2, Container, _>::new(
         Vector::<2>::new(10.0, 10.0),
         parts,
-        ConstantRestitution::new(0.5).unwrap(),
+        Rule::new(ConstantRestitution::new(0.5).unwrap()),
         params,
     )
     .unwrap();
-    let energy = |s: &Simulation<2, Container, ConstantRestitution>| {
-        s.kinetic_energy() + s.potential_energy()
-    };
+    let energy = |s: &Simulation<2, Container, Rule>| s.kinetic_energy() + s.potential_energy();
     let e0 = energy(&sim);
     while sim.counters().wall_collisions < 1_000_000 {
         sim.step().unwrap();
@@ -114,7 +112,7 @@ fn gravity_needs_a_gravity_scene_and_a_floor() {
     let e = Simulation::<2, edmd_core::Walls, _>::new(
         Vector::<2>::new(10.0, 10.0),
         parts.clone(),
-        ConstantRestitution::new(1.0).unwrap(),
+        Rule::new(ConstantRestitution::new(1.0).unwrap()),
         params,
     )
     .unwrap_err()
@@ -123,7 +121,7 @@ fn gravity_needs_a_gravity_scene_and_a_floor() {
     let e = Simulation::<2, edmd_core::GravityAxes<0b01>, _>::new(
         Vector::<2>::new(10.0, 10.0),
         parts,
-        ConstantRestitution::new(1.0).unwrap(),
+        Rule::new(ConstantRestitution::new(1.0).unwrap()),
         params,
     )
     .unwrap_err()
@@ -149,7 +147,7 @@ fn column_heights(
         ..SimParams::default()
     });
     let mut sim = p
-        .build::<Column, _>(ConstantRestitution::new(1.0).unwrap())
+        .build::<Column, _>(Rule::new(ConstantRestitution::new(1.0).unwrap()))
         .unwrap();
     let (mut blocks, mut temps) = (vec![Vec::new(); 8], Vec::new());
     let t_skip = 0.1 * t_end;

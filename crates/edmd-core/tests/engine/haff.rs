@@ -24,7 +24,7 @@ fn decay<const D: usize>(eps: f64, phi: f64, n: usize, seeds: u64) -> (f64, f64,
         p.seed = 1000 + seed;
         p.melt_tau = Some(5.0);
         let mut sim = p
-            .build::<Periodic, _>(ConstantRestitution::new(eps).unwrap())
+            .build::<Periodic, _>(edmd_core::Rule::new(ConstantRestitution::new(eps).unwrap()))
             .unwrap();
         let (mut xs, mut ys) = (Vec::new(), Vec::new());
         sim.run_sampled(Stop::Tau(40.0), &Schedule::every(1.0), |s| {

@@ -227,7 +227,7 @@ fn dense_sheared_spheres_on_neighbour_lists_collide_as_brute_force_predicts() {
         180,
         0.45,
         rate,
-        ConstantRestitution::new(0.5).unwrap(),
+        edmd_core::Rule::new(ConstantRestitution::new(0.5).unwrap()),
         7500,
     );
 }
@@ -286,7 +286,13 @@ fn elastic_sheared_spheres_balance_heating_and_shear_stress() {
 /// E/√N against a heating of many E), and the stream profile ⟨v_x⟩(y), in 8 slabs, is a line of
 /// slope a within 2 % (standard error of the fitted slope printed and required below 0.7 %).
 fn steady_state<const D: usize>(n: usize, phi: f64, rate: f64, eps: f64, profile: [f64; 2]) {
-    let mut sim = build::<D, _>(n, phi, rate, 3, ConstantRestitution::new(eps).unwrap());
+    let mut sim = build::<D, _>(
+        n,
+        phi,
+        rate,
+        3,
+        edmd_core::Rule::new(ConstantRestitution::new(eps).unwrap()),
+    );
     let (tau_end, tau_half) = (120.0, 60.0);
     let e0 = peculiar(&sim).0;
     let mut stress = KineticStress::new(&sim);

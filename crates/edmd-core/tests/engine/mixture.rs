@@ -58,7 +58,7 @@ fn measure(fraction: f64, theory: f64) -> (f64, f64, usize) {
         p.seed = 9000 + seed;
         p.melt_tau = Some(5.0);
         let mut sim = p
-            .build::<Periodic, _>(ConstantRestitution::new(EPS).unwrap())
+            .build::<Periodic, _>(edmd_core::Rule::new(ConstantRestitution::new(EPS).unwrap()))
             .unwrap();
         let masses = sim.masses();
         let mut ratios = Vec::new();

@@ -258,7 +258,7 @@ fn wide_scan_changes_no_event() {
     wide_scan_changes_nothing::<3, Periodic, _>(0.45, 0.4, 0.0, Elastic);
     wide_scan_changes_nothing::<3, Walls, _>(0.4, 0.3, 0.0, Elastic);
     wide_scan_changes_nothing::<2, Periodic, _>(0.7, 0.4, 0.0, Elastic);
-    let inelastic = ConstantRestitution::new(0.9).unwrap();
+    let inelastic = edmd_core::Rule::new(ConstantRestitution::new(0.9).unwrap());
     wide_scan_changes_nothing::<3, LeesEdwards, _>(0.45, 0.4, 0.5, inelastic);
     wide_scan_changes_nothing::<2, LeesEdwards, _>(0.6, 0.4, 0.5, inelastic);
 }

@@ -32,8 +32,8 @@ fn check<const D: usize, B: Boundary, R: CollisionRule>(
     );
 }
 
-fn eps(e: f64) -> ConstantRestitution {
-    ConstantRestitution::new(e).unwrap()
+fn eps(e: f64) -> Rule {
+    Rule::new(ConstantRestitution::new(e).unwrap())
 }
 
 #[test]

@@ -10,7 +10,7 @@ use edmd_core::{Channel, ConstantRestitution, InitParams, Stop};
 fn the_clock_keeps_moving_in_a_collapsing_channel() {
     let p = InitParams::<2>::with_packing(2000, 0.3).unwrap();
     let mut sim = p
-        .build::<Channel, _>(ConstantRestitution::new(0.3).unwrap())
+        .build::<Channel, _>(edmd_core::Rule::new(ConstantRestitution::new(0.3).unwrap()))
         .unwrap();
     let mut last = sim.time();
     for chunk in 0..6 {

@@ -52,7 +52,9 @@ fn measure<const D: usize>(
         ..SimParams::for_density::<D>(phi)
     });
     let mut sim: Simulation<D, LeesEdwards, _> = p
-        .build::<LeesEdwards, _>(ConstantRestitution::new(alpha).unwrap())
+        .build::<LeesEdwards, _>(edmd_core::Rule::new(
+            ConstantRestitution::new(alpha).unwrap(),
+        ))
         .unwrap();
     let volume = side.powi(D as i32);
     let (tau_start, blocks, per_block) = (30.0, 10, 30.0);

@@ -102,39 +102,39 @@ fn check<const D: usize, R: CollisionRule>(
 
 fn all_rules<const D: usize>() {
     check::<D, _>(
-        ConstantRestitution::new(0.8).unwrap(),
+        Rule::new(ConstantRestitution::new(0.8).unwrap()),
         |_, _, _| 0.8,
         "constant 0.8",
     );
     check::<D, _>(
-        ConstantRestitution::new(0.0).unwrap(),
+        Rule::new(ConstantRestitution::new(0.0).unwrap()),
         |_, _, _| 0.0,
         "constant 0",
     );
     // The normal speed here is about 1.4: a threshold above it applies eps_low, one below applies eps.
     check::<D, _>(
-        ThresholdRestitution::new(0.6, 0.95, 5.0).unwrap(),
+        Rule::new(ThresholdRestitution::new(0.6, 0.95, 5.0).unwrap()),
         |_, _, _| 0.95,
         "threshold (slow)",
     );
     check::<D, _>(
-        ThresholdRestitution::new(0.6, 0.95, 0.1).unwrap(),
+        Rule::new(ThresholdRestitution::new(0.6, 0.95, 0.1).unwrap()),
         |_, _, _| 0.6,
         "threshold (fast)",
     );
     check::<D, _>(
-        ThesisRestitution::new(0.95, 0.3).unwrap(),
+        Rule::new(ThesisRestitution::new(0.95, 0.3).unwrap()),
         |v, _, _| 0.95 * (v / 0.3).powf(-0.25),
         "thesis eq. 5.1",
     );
     check::<D, _>(
-        ThesisRestitution::new(0.95, 3.0).unwrap(),
+        Rule::new(ThesisRestitution::new(0.95, 3.0).unwrap()),
         |v, _, _| 1.0 - 0.05 * (v / 3.0).powf(0.2),
         "thesis eq. 5.1, slow branch",
     );
     let (young, poisson, a) = (1e4, 0.3, 1e-3);
     check::<D, _>(
-        Viscoelastic::from_material(young, poisson, a).unwrap(),
+        Rule::new(Viscoelastic::from_material(young, poisson, a).unwrap()),
         |v, m, r| {
             let rho = 2.0 * young / (3.0 * (1.0 - poisson * poisson)) * r.sqrt();
             let kappa = 1.5f64.powf(2.5) * rho / m;
@@ -186,7 +186,8 @@ fn rotations<const D: usize>() {
     );
     let mut turned = Vec::new();
     for seed in 0..20 {
-        let g_plain = relative_after::<D, _>(ConstantRestitution::new(0.8).unwrap(), seed);
+        let g_plain =
+            relative_after::<D, _>(Rule::new(ConstantRestitution::new(0.8).unwrap()), seed);
         let g_rot = relative_after::<D, _>(
             Rule::new(ConstantRestitution::new(0.8).unwrap())
                 .with_rotation(theta)
@@ -243,10 +244,10 @@ fn bounce<B: Boundary>(wall_epsilon: f64) -> (f64, f64) {
         wall_epsilon,
         ..SimParams::default()
     };
-    let mut sim = Simulation::<2, B, ConstantRestitution>::new(
+    let mut sim = Simulation::<2, B, Rule>::new(
         Vector::<2>::new(10.0, 10.0),
         parts,
-        ConstantRestitution::new(0.5).unwrap(),
+        Rule::new(ConstantRestitution::new(0.5).unwrap()),
         params,
     )
     .unwrap();
@@ -263,10 +264,10 @@ fn walls_have_their_own_restitution() {
     assert!((e3 / e0 - 0.9f64.powi(6)).abs() < 1e-14, "{}", e3 / e0);
     let (e0, e3) = bounce::<Walls>(1.0);
     assert_eq!(e0, e3);
-    let e = Simulation::<2, Walls, ConstantRestitution>::new(
+    let e = Simulation::<2, Walls, Rule>::new(
         Vector::<2>::new(10.0, 10.0),
         vec![],
-        ConstantRestitution::new(0.5).unwrap(),
+        Rule::new(ConstantRestitution::new(0.5).unwrap()),
         SimParams {
             wall_epsilon: 1.2,
             ..SimParams::default()
@@ -283,10 +284,10 @@ fn walls_have_their_own_restitution() {
         radius: 0.5,
         mass: 1.0,
     }];
-    let msg = Simulation::<2, Walls, ConstantRestitution>::new(
+    let msg = Simulation::<2, Walls, Rule>::new(
         Vector::<2>::new(10.0, 10.0),
         parts,
-        ConstantRestitution::new(0.5).unwrap(),
+        Rule::new(ConstantRestitution::new(0.5).unwrap()),
         bad,
     )
     .unwrap_err()

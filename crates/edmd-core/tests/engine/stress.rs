@@ -99,7 +99,7 @@ fn deep_cooling_below_1e_minus_300_case(size: Size) {
     let mut p = InitParams::<2>::in_box(66, Vector::<2>::repeat(14.4));
     p.seed = 5;
     let mut sim = p
-        .build::<Periodic, _>(ConstantRestitution::new(0.9).unwrap())
+        .build::<Periodic, _>(Rule::new(ConstantRestitution::new(0.9).unwrap()))
         .unwrap();
     let ln0 = sim.ln_temperature();
     let start = Instant::now();
@@ -194,16 +194,17 @@ fn strongly_inelastic_dense_gas_with_and_without_remedies_case(size: Size) {
     let tc = 1.4e-5;
     let delta = 1e-4;
     for eps in [0.1, 0.2, 0.3] {
-        let c = ConstantRestitution::new(eps).unwrap();
+        let c = Rule::new(ConstantRestitution::new(eps).unwrap());
         let cases: [(&str, DenseRun); 4] = [
             ("none", dense_inelastic(n, c, tau)),
-            (
-                "TC",
-                dense_inelastic(n, Rule::new(c).with_tc(tc).unwrap(), tau),
-            ),
+            ("TC", dense_inelastic(n, c.with_tc(tc).unwrap(), tau)),
             (
                 "threshold",
-                dense_inelastic(n, ThresholdRestitution::new(eps, 1.0, delta).unwrap(), tau),
+                dense_inelastic(
+                    n,
+                    Rule::new(ThresholdRestitution::new(eps, 1.0, delta).unwrap()),
+                    tau,
+                ),
             ),
             (
                 "threshold+rotation",
@@ -295,7 +296,7 @@ fn polydisperse_one_to_ten_case(size: Size) {
         p.seed = 4;
         let phi = p.packing_fraction();
         let mut sim = p
-            .build::<Periodic, _>(ConstantRestitution::new(eps).unwrap())
+            .build::<Periodic, _>(Rule::new(ConstantRestitution::new(eps).unwrap()))
             .unwrap();
         let o0 = sim.observe();
         let start = Instant::now();
