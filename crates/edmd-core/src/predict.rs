@@ -57,7 +57,7 @@ pub fn pair_time<const D: usize>(dr: &Vector<D>, dv: &Vector<D>, sigma: f64, spe
 /// neighbours it mispredicts about as often as not.
 #[inline(always)]
 #[allow(unsafe_code)]
-fn select(cond: bool, a: f64, b: f64) -> f64 {
+pub(crate) fn select(cond: bool, a: f64, b: f64) -> f64 {
     #[cfg(target_arch = "x86_64")]
     // SAFETY: SSE2 is part of the x86_64 baseline; the operations only move bits.
     unsafe {

@@ -4,7 +4,7 @@
 use super::{Aux, Cells, Simulation};
 use crate::calendar::Calendar;
 use crate::cells::NONE;
-use crate::predict::{fall_time, pair_time, reach_time, rise_time};
+use crate::predict::{fall_time, pair_time, reach_time, rise_time, select};
 use crate::{Boundary, CollisionRule, Particle, Vector};
 
 impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B, R, C> {
@@ -216,10 +216,14 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                     Aux::Crossing { axis: a as u8, up },
                 )
             };
+            // The earlier of the axes, chosen without a branch (which axis comes first is a coin
+            // flip): the time by bit masks, the code by a conditional move.
             let t = self.now + dt;
-            if t < best.0 {
-                best = (t, code);
-            }
+            let earlier = t < best.0;
+            best = (
+                select(earlier, t, best.0),
+                if earlier { code } else { best.1 },
+            );
         }
         best
     }
