@@ -10,17 +10,22 @@ use crate::{Boundary, CollisionRule, Particle, Vector};
 impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B, R, C> {
     /// Earliest contact of particle `i` (at now) with the members of its neighbour cells; with
     /// `only = Some((axis, dir))`, just the cells at offset `dir` along `axis`.
-    #[inline]
+    ///
+    /// The interior cell's search is inlined at every call site, where `only` is known, so that
+    /// the choice between the full and the partial search costs no branch (a coin flip between
+    /// collisions and crossings, were both to share one copy); a cell at the box's edge goes out
+    /// of line to [`Self::search_edge_cells`].
+    #[inline(always)]
     pub(super) fn search_cells(
         &self,
         i: usize,
         only: Option<(usize, i32)>,
         mut best: (f64, u32),
     ) -> (f64, u32) {
-        let pi = self.particles[i];
-        let pos_i = pi.r0 + pi.vel * self.now;
         let ci = self.meta[i].cell;
         if self.grid.is_interior(&ci) {
+            let pi = self.particles[i];
+            let pos_i = pi.r0 + pi.vel * self.now;
             // Interior cell (the common case): fixed offsets, no periodic images; a full search
             // by rows of three cells (in the order of `grid.full`).
             let center = self.grid.index(&ci);
@@ -39,9 +44,23 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             }
             return best;
         }
+        self.search_edge_cells(i, only, best)
+    }
+
+    /// [`Self::search_cells`] for a cell at the box's edge: periodic images, walls, sliding faces.
+    #[inline(never)]
+    fn search_edge_cells(
+        &self,
+        i: usize,
+        only: Option<(usize, i32)>,
+        mut best: (f64, u32),
+    ) -> (f64, u32) {
         if B::SHEARED {
             return self.search_cells_sheared(i, only, best);
         }
+        let pi = self.particles[i];
+        let pos_i = pi.r0 + pi.vel * self.now;
+        let ci = self.meta[i].cell;
         // Per axis: the neighbour rows to visit, as linear-index contribution and image shift.
         let mut lin = [[0usize; 3]; D];
         let mut sh = [[0.0f64; 3]; D];
@@ -264,7 +283,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         self.grid.insert(&mut self.particles, i as u32, new);
         if sheared {
             // A new trajectory: a full search, as after a collision.
-            let (t, partner) = self.search_cells(i, None, (f64::INFINITY, NONE));
+            let (t, partner) = self.search_all_cells(i);
             self.store::<super::Cells>(i, t, partner);
             return;
         }
@@ -285,8 +304,15 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                 (e.coll_t, e.partner),
             )
         } else {
-            self.search_cells(i, None, (f64::INFINITY, NONE))
+            self.search_all_cells(i)
         };
         self.store::<Cells>(i, t, partner);
+    }
+
+    /// A full search out of line, for the crossings that need one (a stale candidate, a sliding
+    /// face): rare enough that a copy of the full search inlined here would only cost build time.
+    #[inline(never)]
+    fn search_all_cells(&self, i: usize) -> (f64, u32) {
+        self.search_cells(i, None, (f64::INFINITY, NONE))
     }
 }
