@@ -30,11 +30,21 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             // by rows of three cells (in the order of `grid.full`).
             let center = self.grid.index(&ci);
             match only {
-                None => self.grid.for_each_row(center, |start| {
-                    for first in self.grid.row(start) {
+                None => {
+                    // The occupied cells' first members gathered without a branch (whether a
+                    // cell is empty is a coin flip), then walked in the same order.
+                    let mut firsts = [NONE; 27];
+                    let mut n = 0;
+                    self.grid.for_each_row(center, |start| {
+                        for first in self.grid.row(start) {
+                            firsts[n] = first;
+                            n += (first != NONE) as usize;
+                        }
+                    });
+                    for &first in &firsts[..n] {
                         best = self.scan_members(first, i, &pi, &pos_i, best);
                     }
-                }),
+                }
                 Some((axis, dir)) => {
                     for &o in &self.grid.partial[2 * axis + (dir > 0) as usize] {
                         let idx = (center as isize + o) as usize;
