@@ -154,10 +154,12 @@ impl<const D: usize> CellGrid<D> {
     /// True if cell `c` has no face on the box boundary, so its neighbours need no wrapping.
     #[inline(always)]
     pub fn is_interior<T: Copy + Into<u32>>(&self, c: &[T; D]) -> bool {
+        // 1 ≤ x ≤ n − 2 as one unsigned comparison per axis (x − 1 wraps to a huge value at 0;
+        // n ≥ 3), combined without a branch.
         let mut inside = true;
         for a in 0..D {
             let x: u32 = c[a].into();
-            inside &= x >= 1 && (x as usize) + 1 < self.n[a];
+            inside &= (x as usize).wrapping_sub(1) < self.n[a] - 2;
         }
         inside
     }

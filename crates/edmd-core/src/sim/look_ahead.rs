@@ -163,7 +163,8 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             Aux::Crossing { axis, up } => {
                 let mut c = m.cell();
                 let a = axis as usize;
-                c[a] = if up { c[a] + 1 } else { c[a].wrapping_sub(1) };
+                // One step up or down without a branch (which way is a coin flip).
+                c[a] = c[a].wrapping_add(2 * up as u32).wrapping_sub(1);
                 match self.interior_cell(&c) {
                     Some(centre) => Reads::Cross {
                         centre,
@@ -196,8 +197,8 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     #[inline(always)]
     fn prefetch_members(&self, centre: usize) {
         self.grid.for_each_row(centre, |row| {
-            for c in row..row + 3 {
-                self.prefetch_first_member(c);
+            for k in self.grid.row(row) {
+                self.prefetch_member(k);
             }
         });
     }
@@ -207,7 +208,12 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     /// the many empty cells of a gas.
     #[inline(always)]
     fn prefetch_first_member(&self, idx: usize) {
-        let k = self.grid.first(idx);
+        self.prefetch_member(self.grid.first(idx));
+    }
+
+    /// Asks for the record of slot `k`, or of slot 0 where `k` is [`NONE`] (an empty cell's head).
+    #[inline(always)]
+    fn prefetch_member(&self, k: u32) {
         let k = if k == NONE { 0 } else { k as usize };
         prefetch_record_at(&self.particles, k);
     }
