@@ -34,19 +34,32 @@ pub fn l2_or_fallback() -> usize {
     *L2.get_or_init(|| l2_bytes().unwrap_or(L2_FALLBACK))
 }
 
-/// Bytes of particle records above which list scans ask for their partners' records ahead: the
-/// L2. 3D φ 0.45 on a 2 MiB L2, the hints cost 5 % at N = 10 976 (0.7 MB of records) and gain 7 %
-/// at 97 556 (6.2 MB; docs/benchmarks.md, "The four-wide list scan").
+/// The switches of cache-resident work (partner hints, deferred filings) turn on above this many
+/// times the per-core L2. At one L2 a 512 KiB L2 (AMD Zen 3) had them on at 2D φ 0.3 N 10⁴ and 3D
+/// φ 0.45 N 10 976, for 7 % and 13 % more instructions per collision and no gain in time (paired
+/// medians 0.997 and 1.009 with them off); at twice the L2 they stay off there and come on from
+/// N 2·10⁴, and on a 2 MiB L2 every measured case keeps its setting (docs/benchmarks.md, "The
+/// small-system switches at twice the L2").
+pub const SWITCH_L2_MULTIPLE: usize = 2;
+
+/// The bytes above which a cache-resident switch turns on, for an L2 of `l2` bytes.
+fn switch_for(l2: usize) -> usize {
+    l2.saturating_mul(SWITCH_L2_MULTIPLE)
+}
+
+/// Bytes of particle records above which list scans ask for their partners' records ahead: twice
+/// the L2. 3D φ 0.45 on a 2 MiB L2, the hints cost 5 % at N = 10 976 (0.7 MB of records) and gain
+/// 7 % at 97 556 (6.2 MB; docs/benchmarks.md, "The four-wide list scan").
 pub fn partner_hints_threshold() -> usize {
-    l2_or_fallback()
+    switch_for(l2_or_fallback())
 }
 
 /// Bytes of calendar buckets and per-particle records (which hold the calendar entries) above which
-/// the Paul calendar defers its filings into later buckets: the L2. Below it the bucket lines are
-/// cached and deferring only adds work (2D φ 0.3 N 10⁴: 2795 → 2611 instructions per collision
+/// the Paul calendar defers its filings into later buckets: twice the L2. Below it the bucket lines
+/// are cached and deferring only adds work (2D φ 0.3 N 10⁴: 2795 → 2611 instructions per collision
 /// without it, 5 % faster; with it 14 % faster at N 10⁵; docs/benchmarks.md, "Deferral by size").
 pub fn calendar_deferral_threshold() -> usize {
-    l2_or_fallback()
+    switch_for(l2_or_fallback())
 }
 
 /// The threshold for an L2 of `l2` bytes (`None`: unknown).
@@ -90,7 +103,7 @@ fn parse_size(text: &str) -> Option<usize> {
 
 #[cfg(test)]
 mod tests {
-    use super::{parse_size, threshold_for, LOOK_AHEAD_FALLBACK};
+    use super::{parse_size, switch_for, threshold_for, LOOK_AHEAD_FALLBACK};
 
     #[test]
     fn sysfs_sizes_parse() {
@@ -111,5 +124,16 @@ mod tests {
         assert_eq!(threshold_for(Some(256 << 10)), 16 << 20);
         assert_eq!(threshold_for(Some(1 << 30)), 256 << 20);
         assert_eq!(threshold_for(None), LOOK_AHEAD_FALLBACK);
+    }
+
+    /// The small-system switches: off up to twice the L2 (3D N 10 976's 0.7 MB of records on a
+    /// 512 KiB L2), on beyond.
+    #[test]
+    fn small_system_switches_at_twice_the_l2() {
+        assert_eq!(switch_for(512 << 10), 1 << 20);
+        assert!(10_976 * 64 < switch_for(512 << 10));
+        assert!(20_000 * 64 > switch_for(512 << 10));
+        assert_eq!(switch_for(2 << 20), 4 << 20);
+        assert_eq!(switch_for(usize::MAX), usize::MAX);
     }
 }

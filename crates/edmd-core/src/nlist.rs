@@ -50,7 +50,7 @@ pub(crate) struct NeighbourLists<const D: usize> {
     /// change): the four-wide scan then reads no partner's radius.
     pub same_radius: bool,
     /// Whether a four-wide scan first asks for every partner's record: where the records outgrow
-    /// the L2 ([`crate::caches::partner_hints_threshold`]; the two-wide scan always does).
+    /// twice the L2 ([`crate::caches::partner_hints_threshold`]; the two-wide scan always does).
     pub hint_partners: bool,
 }
 
