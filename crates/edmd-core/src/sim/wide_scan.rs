@@ -4,8 +4,11 @@
 //! [`Simulation::scan_list`] tests partners two at a time in SSE2 registers, which the x86-64
 //! baseline guarantees; gathering each pair's seven numbers into lanes and unpacking them costs more
 //! instructions than the test itself (docs/benchmarks.md, "The 3D instruction budget by function").
-//! Here the partners' records are read by AVX2 gathers, one instruction per coordinate for four
-//! partners, and the test runs on four lanes. Every lane computes exactly the operations of the
+//! Here the partners' records are read into lanes for four partners at once, and the test runs on
+//! four lanes: in 3D, where a record is one line, by two 32-byte loads per partner and a 4×4
+//! transpose (AMD Zen 3 runs a gather as many µops: 3D φ 0.45 N 10 976 1.15–1.18× faster than six
+//! gathers, at the same instruction count; docs/benchmarks.md, "Sphere records by loads and a
+//! transpose"); in 2D by AVX2 gathers, one instruction per coordinate. Every lane computes exactly the operations of the
 //! portable test, in the same order and without fused multiply-adds, so it keeps exactly the same
 //! partners; those go through the same exact test ([`Simulation::consider`]) one by one in list
 //! order. Trajectories are bit-identical to the portable scan's (`tests/engine/lists.rs`).
@@ -63,9 +66,10 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         let base = self.particles.as_ptr().cast::<f64>();
         // Offsets, in words, of the fields of a record (`Particle` is `repr(C)`).
         let (r0_at, vel_at, radius_at) = (0, D, 2 * D);
-        // SAFETY (all intrinsics below): AVX2 is enabled by the caller's contract; the gathers
-        // read fields of the records of the padded list's entries, all slots (below n, whose word
-        // offsets fit an i32 by the contract).
+        // SAFETY (all intrinsics below): AVX2 is enabled by the caller's contract; the loads and
+        // gathers read within the records of the padded list's entries, all slots (below n, whose
+        // word offsets fit an i32 by the contract; a 3D record is the eight words the two loads
+        // read).
         let now_v = _mm256_set1_pd(now);
         let ri = _mm256_set1_pd(pi.radius);
         let ri2 = _mm256_set1_pd(pi.radius + pi.radius);
@@ -91,9 +95,46 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             let mut ds = [zero; D];
             let mut dvs = [zero; D];
             let mut vels = [zero; D];
+            let mut r0s = [zero; D];
+            let mut radii = zero;
+            if D == 3 {
+                // Sphere records are one line each, [x y z vx | vy vz radius link]: two loads per
+                // partner and a 4×4 transpose give the same lanes as six gathers, in fewer µops
+                // where gathers are microcoded (AMD Zen).
+                let rec = |k: usize| base.add(group[k] as usize * words as usize);
+                let (p0, p1, p2, p3) = (rec(0), rec(1), rec(2), rec(3));
+                let (a0, a1) = (_mm256_loadu_pd(p0), _mm256_loadu_pd(p1));
+                let (a2, a3) = (_mm256_loadu_pd(p2), _mm256_loadu_pd(p3));
+                let t0 = _mm256_unpacklo_pd(a0, a1);
+                let t1 = _mm256_unpackhi_pd(a0, a1);
+                let t2 = _mm256_unpacklo_pd(a2, a3);
+                let t3 = _mm256_unpackhi_pd(a2, a3);
+                r0s[0] = _mm256_permute2f128_pd::<0x20>(t0, t2);
+                r0s[2] = _mm256_permute2f128_pd::<0x31>(t0, t2);
+                r0s[1] = _mm256_permute2f128_pd::<0x20>(t1, t3);
+                vels[0] = _mm256_permute2f128_pd::<0x31>(t1, t3);
+                let (b0, b1) = (_mm256_loadu_pd(p0.add(4)), _mm256_loadu_pd(p1.add(4)));
+                let (b2, b3) = (_mm256_loadu_pd(p2.add(4)), _mm256_loadu_pd(p3.add(4)));
+                let u0 = _mm256_unpacklo_pd(b0, b1);
+                let u1 = _mm256_unpackhi_pd(b0, b1);
+                let u2 = _mm256_unpacklo_pd(b2, b3);
+                let u3 = _mm256_unpackhi_pd(b2, b3);
+                vels[1] = _mm256_permute2f128_pd::<0x20>(u0, u2);
+                vels[2] = _mm256_permute2f128_pd::<0x20>(u1, u3);
+                if !SAME {
+                    radii = _mm256_permute2f128_pd::<0x31>(u0, u2);
+                }
+            } else {
+                for a in 0..D {
+                    r0s[a] = _mm256_i32gather_pd::<8>(base.add(r0_at + a), at);
+                    vels[a] = _mm256_i32gather_pd::<8>(base.add(vel_at + a), at);
+                }
+                if !SAME {
+                    radii = _mm256_i32gather_pd::<8>(base.add(radius_at), at);
+                }
+            }
             for a in 0..D {
-                let r0 = _mm256_i32gather_pd::<8>(base.add(r0_at + a), at);
-                let vel = _mm256_i32gather_pd::<8>(base.add(vel_at + a), at);
+                let (r0, vel) = (r0s[a], vels[a]);
                 let pos = _mm256_add_pd(r0, _mm256_mul_pd(vel, now_v));
                 let d = if WRAP && !B::is_wall(a) {
                     if SHEAR && a == 1 {
@@ -115,11 +156,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                 }
             }
             // Where every radius is `i`'s, σ is `i`'s two radii for every partner, to the bit.
-            let sigma = if SAME {
-                ri2
-            } else {
-                _mm256_add_pd(ri, _mm256_i32gather_pd::<8>(base.add(radius_at), at))
-            };
+            let sigma = if SAME { ri2 } else { _mm256_add_pd(ri, radii) };
             let room = _mm256_sub_pd(_mm256_mul_pd(sigma, sigma), dr2);
             // `rootless_test` (b < 0 and room ≥ 2 b limit (1 + 1e-9)), a trace looser: the lanes
             // it keeps go through the test itself below.
