@@ -102,23 +102,13 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                 // partner and a 4×4 transpose give the same lanes as six gathers, in fewer µops
                 // where gathers are microcoded (AMD Zen).
                 let rec = |k: usize| base.add(group[k] as usize * words as usize);
-                let (p0, p1, p2, p3) = (rec(0), rec(1), rec(2), rec(3));
-                let (a0, a1) = (_mm256_loadu_pd(p0), _mm256_loadu_pd(p1));
-                let (a2, a3) = (_mm256_loadu_pd(p2), _mm256_loadu_pd(p3));
-                let t0 = _mm256_unpacklo_pd(a0, a1);
-                let t1 = _mm256_unpackhi_pd(a0, a1);
-                let t2 = _mm256_unpacklo_pd(a2, a3);
-                let t3 = _mm256_unpackhi_pd(a2, a3);
+                let recs = [rec(0), rec(1), rec(2), rec(3)];
+                let [t0, t1, t2, t3] = pairs_of_lanes(recs, 0);
                 r0s[0] = _mm256_permute2f128_pd::<0x20>(t0, t2);
                 r0s[2] = _mm256_permute2f128_pd::<0x31>(t0, t2);
                 r0s[1] = _mm256_permute2f128_pd::<0x20>(t1, t3);
                 vels[0] = _mm256_permute2f128_pd::<0x31>(t1, t3);
-                let (b0, b1) = (_mm256_loadu_pd(p0.add(4)), _mm256_loadu_pd(p1.add(4)));
-                let (b2, b3) = (_mm256_loadu_pd(p2.add(4)), _mm256_loadu_pd(p3.add(4)));
-                let u0 = _mm256_unpacklo_pd(b0, b1);
-                let u1 = _mm256_unpackhi_pd(b0, b1);
-                let u2 = _mm256_unpacklo_pd(b2, b3);
-                let u3 = _mm256_unpackhi_pd(b2, b3);
+                let [u0, u1, u2, u3] = pairs_of_lanes(recs, 4);
                 vels[1] = _mm256_permute2f128_pd::<0x20>(u0, u2);
                 vels[2] = _mm256_permute2f128_pd::<0x20>(u1, u3);
                 if !SAME {
@@ -201,6 +191,26 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         }
         best
     }
+}
+
+/// The first half of a 4×4 transpose: the four words at `offset` of each of the four records `p`,
+/// unpacked in pairs, `[w0 of p0, p1 | w2 of p0, p1]`, `[w1 of p0, p1 | w3 of p0, p1]`, then the
+/// same of p2 and p3; one `vperm2f128` of two of them makes a word's four lanes.
+///
+/// # Safety
+/// AVX2; each `p[k] + offset` starts four readable words.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[allow(unsafe_code)]
+#[inline]
+unsafe fn pairs_of_lanes(p: [*const f64; 4], offset: usize) -> [__m256d; 4] {
+    let [a0, a1, a2, a3] = p.map(|q| _mm256_loadu_pd(q.add(offset)));
+    [
+        _mm256_unpacklo_pd(a0, a1),
+        _mm256_unpackhi_pd(a0, a1),
+        _mm256_unpacklo_pd(a2, a3),
+        _mm256_unpackhi_pd(a2, a3),
+    ]
 }
 
 /// The test of a list renewal's search on four candidates at once: hands `found`, in the order of
