@@ -50,4 +50,8 @@ pub struct ParticleInit<const D: usize> {
 // One particle record per cache line in 3D, and no larger than its constructor's record (the
 // conversion in `Simulation::new` reuses that allocation).
 const _: () = assert!(std::mem::size_of::<Particle<3>>() == 64);
+// The four-wide 3D scan loads a record as [x y z vx | vy vz radius link] (`sim/wide_scan.rs`).
+const _: () = assert!(
+    std::mem::offset_of!(Particle<3>, vel) == 24 && std::mem::offset_of!(Particle<3>, radius) == 48
+);
 const _: () = assert!(std::mem::size_of::<Particle<2>>() == std::mem::size_of::<ParticleInit<2>>());

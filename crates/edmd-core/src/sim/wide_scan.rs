@@ -8,10 +8,11 @@
 //! four lanes: in 3D, where a record is one line, by two 32-byte loads per partner and a 4×4
 //! transpose (AMD Zen 3 runs a gather as many µops: 3D φ 0.45 N 10 976 1.15–1.18× faster than six
 //! gathers, at the same instruction count; docs/benchmarks.md, "Sphere records by loads and a
-//! transpose"); in 2D by AVX2 gathers, one instruction per coordinate. Every lane computes exactly the operations of the
-//! portable test, in the same order and without fused multiply-adds, so it keeps exactly the same
-//! partners; those go through the same exact test ([`Simulation::consider`]) one by one in list
-//! order. Trajectories are bit-identical to the portable scan's (`tests/engine/lists.rs`).
+//! transpose"); in 2D by AVX2 gathers, one instruction per coordinate. Every lane computes exactly
+//! the operations of the portable test, in the same order and without fused multiply-adds, so it
+//! keeps exactly the same partners; those go through the same exact test
+//! ([`Simulation::consider`]) one by one in list order. Trajectories are bit-identical to the
+//! portable scan's (`tests/engine/oracle.rs`, `wide_scan_changes_no_event`).
 
 #[cfg(target_arch = "x86_64")]
 use std::arch::x86_64::*;

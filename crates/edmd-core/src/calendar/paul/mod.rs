@@ -255,8 +255,8 @@ impl PaulCalendar {
 
     /// Lets filings into later buckets wait until their bucket line has arrived: a setting that
     /// changes no pop (the tests compare both). By default it is on where the buckets and the
-    /// particles' records outgrow twice the L2 ([`crate::caches::calendar_deferral_threshold`]), set at
-    /// every [`Calendar::reset`]; this call fixes it.
+    /// particles' records outgrow twice the L2 ([`crate::caches::calendar_deferral_threshold`]),
+    /// set at every [`Calendar::reset`]; this call fixes it.
     pub fn defer_filings<E: HasEntry>(&mut self, e: &mut [E], on: bool) {
         if !on {
             self.link_deferred(e);
