@@ -102,7 +102,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     /// during the other's work.
     #[inline(always)]
     fn pair_event<S: Search>(&mut self, i: usize, j: usize) {
-        self.hint_partner::<S>(j);
+        self.hint_pair::<S>(i, j);
         self.collide(i, j);
         let ti = self.predict_event::<S>(i);
         self.hint_filing(i, ti);
