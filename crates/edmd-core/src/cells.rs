@@ -300,21 +300,22 @@ impl<const D: usize> CellGrid<D> {
     }
 
     /// Removes member `i` of `items` from cell `idx` (which must hold it), walking the cell from its
-    /// head to `i`'s predecessor.
+    /// head to `i`'s predecessor; returns that predecessor, whose link changed ([`NONE`] where `i`
+    /// was the head).
     #[inline]
-    pub fn remove<T: CellLink>(&mut self, items: &mut [T], i: u32, idx: usize) {
+    pub fn remove<T: CellLink>(&mut self, items: &mut [T], i: u32, idx: usize) -> u32 {
         let next = items[i as usize].link();
         let mut k = self.head[idx];
         if k == i {
             self.head[idx] = next;
-            return;
+            return NONE;
         }
         loop {
             debug_assert!(k != NONE, "member {i} not in cell {idx}");
             let l = items[k as usize].link();
             if l == i {
                 items[k as usize].set_link(next);
-                return;
+                return k;
             }
             k = l;
         }

@@ -13,6 +13,7 @@
 //! In a dense gas a particle rattles in its cage: it needs many collisions to travel `δ/2`, while a
 //! prediction scans ~10 listed partners instead of the ~23 occupants of 27 cells (3D, φ = 0.45).
 
+use crate::cells::NONE;
 use crate::Vector;
 
 /// The top bit of a slot's `len` entry: its shell centre is far from every periodic face
@@ -41,6 +42,10 @@ pub(crate) struct NeighbourLists<const D: usize> {
     /// Per slot, the renewal stamp that last marked it ([`Self::renew`]): membership in the old and
     /// the new list is read off it instead of searching one list for each entry of the other.
     mark: Vec<u32>,
+    /// Each slot's link in the list grid's cells, a copy of the record's (`Particle::next_in_cell`)
+    /// kept beside the other list arrays: a renewal walks its cells by these, four bytes a member,
+    /// instead of reading each member's record.
+    pub(crate) links: Vec<u32>,
     /// The stamp of the last renewal (even; the odd one above it marks "in both lists").
     stamp: u32,
     /// Whether list scans test four partners at once (`sim/wide_scan.rs`): where the processor
@@ -69,6 +74,7 @@ impl<const D: usize> NeighbourLists<D> {
             fresh: Vec::new(),
             candidates: Vec::new(),
             mark: vec![0; n],
+            links: vec![NONE; n],
             stamp: 0,
             same_radius: false,
             wide: crate::sim::wide_scan_available::<D>(n),
@@ -281,13 +287,27 @@ impl<const D: usize> NeighbourLists<D> {
         }
     }
 
+    /// Copies every particle's cell link (the list grid's, in list mode) into [`Self::links`].
+    pub(crate) fn mirror_links(&mut self, particles: &[crate::Particle<D>]) {
+        for (l, p) in self.links.iter_mut().zip(particles) {
+            *l = p.next_in_cell;
+        }
+    }
+
+    /// Copies slot `k`'s cell link into [`Self::links`].
+    #[inline]
+    pub(crate) fn mirror_link(&mut self, particles: &[crate::Particle<D>], k: usize) {
+        self.links[k] = particles[k].next_in_cell;
+    }
+
     /// Heap bytes held by the lists.
     pub fn heap_bytes(&self) -> usize {
         4 * (self.items.capacity()
             + self.len.capacity()
             + self.fresh.capacity()
             + self.candidates.capacity()
-            + self.mark.capacity())
+            + self.mark.capacity()
+            + self.links.capacity())
             + self.centre.capacity() * std::mem::size_of::<Vector<D>>()
     }
 }

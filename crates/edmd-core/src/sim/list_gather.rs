@@ -86,7 +86,13 @@ impl<const D: usize> NeighbourLists<D> {
         }
         for &k in &firsts[..count] {
             if k != NONE {
-                crate::prefetch::prefetch_at(particles, k as usize);
+                // The four-wide walk reads the links beside the lists; the one-by-one test reads
+                // the records themselves.
+                if nl.wide {
+                    crate::prefetch::prefetch_at(&nl.links, k as usize);
+                } else {
+                    crate::prefetch::prefetch_at(particles, k as usize);
+                }
                 crate::prefetch::prefetch_at(&nl.centre, k as usize);
             }
         }
@@ -108,7 +114,10 @@ impl<const D: usize> NeighbourLists<D> {
                 let mut k = first;
                 while k != NONE {
                     candidates.push(k);
-                    k = particles[k as usize].next_in_cell;
+                    // The cell links by the copy beside the lists: four bytes a member instead of
+                    // its record's line (with equal radii the test reads only the centres).
+                    debug_assert_eq!(nl.links[k as usize], particles[k as usize].next_in_cell);
+                    k = nl.links[k as usize];
                 }
             }
             let len = candidates.len();

@@ -53,6 +53,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             let idx = l.grid.index(&c);
             l.grid.insert(l.particles, i as u32, idx);
         }
+        l.nl.mirror_links(l.particles);
         for i in 0..l.particles.len() {
             let ci = l.meta[i].cell();
             l.gather(&ci, i, true, |nl, j| nl.link(i, j as usize));
@@ -71,9 +72,13 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         let c = l.grid.coords_of(&pos);
         if c != l.meta[i].cell() {
             let old = l.grid.index(&l.meta[i].cell());
-            l.grid.remove(l.particles, i as u32, old);
+            let before = l.grid.remove(l.particles, i as u32, old);
+            if before != crate::cells::NONE {
+                l.nl.mirror_link(l.particles, before as usize);
+            }
             let idx = l.grid.index(&c);
             l.grid.insert(l.particles, i as u32, idx);
+            l.nl.mirror_link(l.particles, i);
             l.meta[i].set_cell(c);
         }
         l.nl.fresh.clear();

@@ -135,6 +135,9 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             let idx = self.grid.index(&self.meta[s].cell);
             self.grid.insert(&mut self.particles, s as u32, idx);
         }
+        if let Some(nl) = &mut self.nl {
+            nl.mirror_links(&self.particles);
+        }
     }
 
     /// Moves the origin of the local clock to now: trajectories and pending event times are shifted,
