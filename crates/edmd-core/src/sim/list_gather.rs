@@ -84,15 +84,17 @@ impl<const D: usize> NeighbourLists<D> {
                 count += 1;
             }
         }
-        for &k in &firsts[..count] {
-            if k != NONE {
-                // The four-wide walk reads the links beside the lists; the one-by-one test reads
-                // the records themselves.
-                if nl.wide {
-                    crate::prefetch::prefetch_at(&nl.links, k as usize);
-                } else {
-                    crate::prefetch::prefetch_at(particles, k as usize);
-                }
+        // The four-wide walk reads the links beside the lists; the one-by-one test reads the
+        // records themselves.
+        let occupied = firsts[..count].iter().filter(|&&k| k != NONE);
+        if nl.wide {
+            for &k in occupied {
+                crate::prefetch::prefetch_at(&nl.links, k as usize);
+                crate::prefetch::prefetch_at(&nl.centre, k as usize);
+            }
+        } else {
+            for &k in occupied {
+                crate::prefetch::prefetch_at(particles, k as usize);
                 crate::prefetch::prefetch_at(&nl.centre, k as usize);
             }
         }
