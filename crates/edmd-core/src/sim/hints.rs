@@ -7,7 +7,7 @@
 //! * [`Simulation::hint_popped`], right after the pop: the next particle the calendar will pop
 //!   (its record, bookkeeping and list), and in large cell-mode systems the staged look-ahead over
 //!   the calendar's coming buckets (`sim/look_ahead.rs`) each time the calendar moves on;
-//! * [`Simulation::hint_pair`], before a collision is resolved: in cell mode the heads of both
+//! * [`Simulation::hint_pair`], before a collision is resolved: in 2D cell mode the heads of both
 //!   particles' neighbour cells, which their searches read right after; in list mode the partner's
 //!   list;
 //! * [`Simulation::hint_filing`], between the two predictions of a collision and their filings:
@@ -61,9 +61,9 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
 
     /// Before the collision of slots `i` and `j`: in 2D cell mode (where the look-ahead is off)
     /// the heads of both particles' neighbour cells, whose searches follow the collision (φ 0.3 on
-    /// a 512 KiB L2: N 10⁴ 1.034, 3·10⁴ 1.036; in 3D, nine rows each, 0.974 at φ 0.2 N 10⁴;
-    /// docs/benchmarks.md, "The pair's cell heads asked for"); in list mode `j`'s list, which the
-    /// prediction after it scans.
+    /// a 512 KiB L2: N 10⁴ 0.980–1.034 in four runs, 3·10⁴ 1.036; in 3D, nine rows each, 0.974 at
+    /// φ 0.2 N 10⁴; docs/benchmarks.md, "What bounds 2D N 10⁴ here, and the pair's cell heads
+    /// asked for"); in list mode `j`'s list, which the prediction after it scans.
     #[inline(always)]
     pub(super) fn hint_pair<S: Search>(&self, i: usize, j: usize) {
         if D == 2 && !S::LISTS && !self.look_ahead.on {
