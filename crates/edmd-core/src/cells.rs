@@ -300,22 +300,21 @@ impl<const D: usize> CellGrid<D> {
     }
 
     /// Removes member `i` of `items` from cell `idx` (which must hold it), walking the cell from its
-    /// head to `i`'s predecessor; returns that predecessor, whose link changed ([`NONE`] where `i`
-    /// was the head).
+    /// head to `i`'s predecessor.
     #[inline]
-    pub fn remove<T: CellLink>(&mut self, items: &mut [T], i: u32, idx: usize) -> u32 {
+    pub fn remove<T: CellLink>(&mut self, items: &mut [T], i: u32, idx: usize) {
         let next = items[i as usize].link();
         let mut k = self.head[idx];
         if k == i {
             self.head[idx] = next;
-            return NONE;
+            return;
         }
         loop {
             debug_assert!(k != NONE, "member {i} not in cell {idx}");
             let l = items[k as usize].link();
             if l == i {
                 items[k as usize].set_link(next);
-                return k;
+                return;
             }
             k = l;
         }

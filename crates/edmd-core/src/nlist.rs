@@ -42,9 +42,9 @@ pub(crate) struct NeighbourLists<const D: usize> {
     /// Per slot, the renewal stamp that last marked it ([`Self::renew`]): membership in the old and
     /// the new list is read off it instead of searching one list for each entry of the other.
     mark: Vec<u32>,
-    /// Each slot's link in the list grid's cells, a copy of the record's (`Particle::next_in_cell`)
-    /// kept beside the other list arrays: a renewal walks its cells by these, four bytes a member,
-    /// instead of reading each member's record.
+    /// Each slot's link in the list grid's cells ([`crate::cells::CellLink`]): in list mode the grid
+    /// links through this array, not through the records (whose own link then stays unused), so
+    /// that a renewal walks its cells by four bytes a member instead of each member's record.
     pub(crate) links: Vec<u32>,
     /// The stamp of the last renewal (even; the odd one above it marks "in both lists").
     stamp: u32,
@@ -285,19 +285,6 @@ impl<const D: usize> NeighbourLists<D> {
         for i in 0..n {
             self.pad(i);
         }
-    }
-
-    /// Copies every particle's cell link (the list grid's, in list mode) into [`Self::links`].
-    pub(crate) fn mirror_links(&mut self, particles: &[crate::Particle<D>]) {
-        for (l, p) in self.links.iter_mut().zip(particles) {
-            *l = p.next_in_cell;
-        }
-    }
-
-    /// Copies slot `k`'s cell link into [`Self::links`].
-    #[inline]
-    pub(crate) fn mirror_link(&mut self, particles: &[crate::Particle<D>], k: usize) {
-        self.links[k] = particles[k].next_in_cell;
     }
 
     /// Heap bytes held by the lists.

@@ -84,8 +84,8 @@ impl<const D: usize> NeighbourLists<D> {
                 count += 1;
             }
         }
-        // The four-wide walk reads the links beside the lists; the one-by-one test reads the
-        // records themselves.
+        // Both walks read the links beside the lists; the one-by-one test reads the records as
+        // well.
         let occupied = firsts[..count].iter().filter(|&&k| k != NONE);
         if nl.wide {
             for &k in occupied {
@@ -95,6 +95,7 @@ impl<const D: usize> NeighbourLists<D> {
         } else {
             for &k in occupied {
                 crate::prefetch::prefetch_at(particles, k as usize);
+                crate::prefetch::prefetch_at(&nl.links, k as usize);
                 crate::prefetch::prefetch_at(&nl.centre, k as usize);
             }
         }
@@ -116,9 +117,8 @@ impl<const D: usize> NeighbourLists<D> {
                 let mut k = first;
                 while k != NONE {
                     candidates.push(k);
-                    // The cell links by the copy beside the lists: four bytes a member instead of
-                    // its record's line (with equal radii the test reads only the centres).
-                    debug_assert_eq!(nl.links[k as usize], particles[k as usize].next_in_cell);
+                    // The cell links beside the lists: four bytes a member instead of its record's
+                    // line (with equal radii the test reads only the centres).
                     k = nl.links[k as usize];
                 }
             }
@@ -157,9 +157,10 @@ impl<const D: usize> NeighbourLists<D> {
             while k != NONE {
                 let j = k as usize;
                 let pj = &particles[j];
-                k = pj.next_in_cell;
+                k = nl.links[j];
                 if k != NONE {
                     crate::prefetch::prefetch(&particles[k as usize]);
+                    crate::prefetch::prefetch(&nl.links[k as usize]);
                     crate::prefetch::prefetch(&nl.centre[k as usize]);
                 }
                 if j == i || (later_only && j < i) {

@@ -51,9 +51,8 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             let c = l.grid.coords_of(&pos);
             l.meta[i].set_cell(c);
             let idx = l.grid.index(&c);
-            l.grid.insert(l.particles, i as u32, idx);
+            l.grid.insert(&mut l.nl.links, i as u32, idx);
         }
-        l.nl.mirror_links(l.particles);
         for i in 0..l.particles.len() {
             let ci = l.meta[i].cell();
             l.gather(&ci, i, true, |nl, j| nl.link(i, j as usize));
@@ -72,13 +71,9 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         let c = l.grid.coords_of(&pos);
         if c != l.meta[i].cell() {
             let old = l.grid.index(&l.meta[i].cell());
-            let before = l.grid.remove(l.particles, i as u32, old);
-            if before != crate::cells::NONE {
-                l.nl.mirror_link(l.particles, before as usize);
-            }
+            l.grid.remove(&mut l.nl.links, i as u32, old);
             let idx = l.grid.index(&c);
-            l.grid.insert(l.particles, i as u32, idx);
-            l.nl.mirror_link(l.particles, i);
+            l.grid.insert(&mut l.nl.links, i as u32, idx);
             l.meta[i].set_cell(c);
         }
         l.nl.fresh.clear();

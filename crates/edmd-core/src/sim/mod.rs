@@ -439,7 +439,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             let c = sim.grid.coords_of(&sim.particles[i].r0);
             sim.meta[i].set_cell(c);
             let idx = sim.grid.index(&c);
-            sim.grid.insert(&mut sim.particles, i as u32, idx);
+            sim.file_in_cell(i as u32, idx);
         }
         if let Some((i, j, overlap)) = sim.deepest_overlap().filter(|o| o.2 > 1e-12) {
             return Err(EdmdError::Overlap { i, j, overlap });

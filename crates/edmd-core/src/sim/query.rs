@@ -21,6 +21,28 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         !B::GRAVITY && self.nl.is_some()
     }
 
+    /// The member after slot `k` in its cell: the grid links through [`NeighbourLists::links`] in
+    /// list mode and through the records themselves in cell mode (for the walks outside the event
+    /// loop's own, which know their mode).
+    ///
+    /// [`NeighbourLists::links`]: crate::nlist::NeighbourLists::links
+    #[inline]
+    pub(super) fn next_in_cell(&self, k: u32) -> u32 {
+        match &self.nl {
+            Some(nl) => nl.links[k as usize],
+            None => self.particles[k as usize].next_in_cell,
+        }
+    }
+
+    /// Files slot `i` in the grid's cell `idx`, linked as [`Self::next_in_cell`] reads.
+    #[inline]
+    pub(super) fn file_in_cell(&mut self, i: u32, idx: usize) {
+        match &mut self.nl {
+            Some(nl) => self.grid.insert(&mut nl.links, i, idx),
+            None => self.grid.insert(&mut self.particles, i, idx),
+        }
+    }
+
     /// Number of particles.
     pub fn len(&self) -> usize {
         self.particles.len()
@@ -265,7 +287,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         let members = (0..self.grid.len()).flat_map(|c| {
             let first = self.grid.first(c);
             std::iter::successors((first != NONE).then_some(first), |&k| {
-                let next = self.particles[k as usize].next_in_cell;
+                let next = self.next_in_cell(k);
                 (next != NONE).then_some(next)
             })
         });
@@ -279,7 +301,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                 let mut k = self.grid.first(idx);
                 while k != NONE {
                     let k_ = k as usize;
-                    k = self.particles[k_].next_in_cell;
+                    k = self.next_in_cell(k);
                     if k_ <= i {
                         continue;
                     }

@@ -169,7 +169,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                     let mut k = self.grid.first(idx);
                     while k != NONE {
                         outer.push(k as usize);
-                        k = self.particles[k as usize].next_in_cell;
+                        k = self.next_in_cell(k);
                     }
                 }
             }

@@ -171,7 +171,7 @@ impl<const D: usize> NeighbourLists<D> {
                     let mut k = grid.first(idx);
                     while k != NONE {
                         let j = k as usize;
-                        k = particles[j].next_in_cell;
+                        k = self.links[j];
                         if j == i || (later_only && j < i) {
                             continue;
                         }

@@ -133,10 +133,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         self.grid.clear();
         for s in (0..n).rev() {
             let idx = self.grid.index(&self.meta[s].cell);
-            self.grid.insert(&mut self.particles, s as u32, idx);
-        }
-        if let Some(nl) = &mut self.nl {
-            nl.mirror_links(&self.particles);
+            self.file_in_cell(s as u32, idx);
         }
     }
 
