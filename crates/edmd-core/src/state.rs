@@ -5,8 +5,9 @@ use crate::Vector;
 /// The per-particle data the event loop reads for every neighbour, in one cache line (48 bytes in
 /// 2D, 64 in 3D): the straight-line trajectory `r(t) = r0 + vel·t` in the simulation's local clock
 /// (positions are never advanced between events; `r0` changes only when the velocity does), the
-/// radius, and the link to the next member of the particle's cell. In declaration order (`repr(C)`):
-/// the four-wide list scan reads the fields by their offsets (`sim/wide_scan.rs`).
+/// radius, and the link to the next member of the particle's cell (cell mode; in list mode the list
+/// grid links through `NeighbourLists::links` and this field stays unused). In declaration order
+/// (`repr(C)`): the four-wide list scan reads the fields by their offsets (`sim/wide_scan.rs`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[repr(C)]
 pub struct Particle<const D: usize> {
