@@ -5,7 +5,8 @@
 #   make test      everything CI checks (format, lints, Rust tests with the edmd-bench smoke run, Python
 #                  tests, Slurm)
 #   make check     daily work: format check, clippy and the Rust tests
-#   make bench     collisions/s and peak bytes per particle over N and phi (or one case: D= N= PHI= EPS=)
+#   make bench     collisions/s and peak bytes per particle over N and phi (or one case: D= N= PHI= EPS=),
+#                  edmd-bench compiled for this processor (make bench-bin; BENCH_CPU=x86-64: the generic build)
 #   make bench-nightly  the fixed benchmark matrix with history and regression flags
 #   make bench-instructions  cachegrind instructions per collision, edmd and the peers (history, 3 % flag)
 #   make bench-accuracy  run time against error (remedies, statistics, classification)
@@ -42,7 +43,7 @@ export PATH := $(PATH):$(CURDIR)/$(VENV)/bin
 endif
 PREFIX ?= $(HOME)/.local
 
-.PHONY: install test-portable bench-instructions all deps deps-system venv venv-base release-bin build run figures demo cli check test test-rust test-bin test-python lint lint-rust lint-python bench bench-smoke bench-nightly bench-accuracy stress test-slurm run-rust-tests run-python-tests run-slurm-tests validate clean
+.PHONY: install test-portable bench-instructions bench-bin all deps deps-system venv venv-base release-bin build run figures demo cli check test test-rust test-bin test-python lint lint-rust lint-python bench bench-smoke bench-nightly bench-accuracy stress test-slurm run-rust-tests run-python-tests run-slurm-tests validate clean
 
 all: build
 
@@ -171,13 +172,25 @@ test: deps-system
 	@$(MAKE) --no-print-directory lint-python test-bin
 	@$(MAKE) --no-print-directory -j3 --output-sync=target run-rust-tests run-python-tests run-slurm-tests
 
+# The wall-clock benchmarks time an edmd-bench compiled for the processor they run on (`-C
+# target-cpu=native`), as the peers' build.sh compiles theirs (`-march=native`): the same trajectories
+# bit for bit (Rust fuses no multiply-adds), in a target directory of its own, BENCH_BIN.
+# `BENCH_CPU=x86-64` times the generic build instead. Instruction counts (cachegrind) use the generic
+# build of both codes (target/dist/edmd-bench).
+BENCH_CPU ?= native
+BENCH_DIR := target/cpu-$(BENCH_CPU)
+BENCH_BIN := $(BENCH_DIR)/dist/edmd-bench
+bench-bin:
+	RUSTFLAGS="$$RUSTFLAGS -C target-cpu=$(BENCH_CPU)" CARGO_TARGET_DIR=$(BENCH_DIR) $(CARGO) build --profile dist -q --bin edmd-bench
+	@echo "bench-bin: $(BENCH_BIN) (compiled for $(BENCH_CPU))"
+
 # `make bench` runs the matrix; `make bench D=2 N=10000 PHI=0.3 [EPS=1]` runs one case and ends
 # with `collisions_per_s=<number> bytes_per_particle=<number>`.
-bench:
+bench: bench-bin
 ifdef N
-	$(CARGO) run --profile dist -q --bin edmd-bench -- --d $(or $(D),2) --n $(N) --phi $(or $(PHI),0.3) --eps $(or $(EPS),1.0)
+	$(BENCH_BIN) --d $(or $(D),2) --n $(N) --phi $(or $(PHI),0.3) --eps $(or $(EPS),1.0)
 else
-	$(CARGO) run --profile dist -q --bin edmd-bench -- --matrix
+	$(BENCH_BIN) --matrix
 endif
 
 # Stress tests at full size (10^8 elastic collisions, T/T0 < 1e-1000, N = 10^7 disks, 2000 fuzz
@@ -188,9 +201,9 @@ stress:
 # The nightly matrix (D, N, phi, eps): appends to benches/history.jsonl, prints a table and flags
 # cases > 10 % slower than the previous entry on this machine (exit 1); then, where the peer codes are
 # found (EDMD_PEERS=DIR), edmd/peer ratios side by side. NIGHTLY_ARGS="--only D=2,N=10000".
-bench-nightly:
+bench-nightly: bench-bin
 	$(CARGO) build --profile dist -q --bin edmd-bench
-	$(PYTHON) scripts/bench-nightly.py $(NIGHTLY_ARGS)
+	$(PYTHON) scripts/bench-nightly.py --bench $(BENCH_BIN) $(NIGHTLY_ARGS)
 
 # Run time against error: collapse remedies, statistics, classification (table + PNG in bench-out/accuracy).
 bench-accuracy: deps

@@ -1,16 +1,18 @@
 #!/usr/bin/env python3
 """Nightly throughput benchmark of the engine (`make bench-nightly`).
 
-Runs a fixed matrix of cases with the `edmd-bench` binary of the dist profile, one process per case (so peak memory
+Runs a fixed matrix of cases with the `edmd-bench` binary of the dist profile (`make bench-nightly`: compiled
+for the processor it runs on, as the peers' build.sh compiles theirs; --bench), one process per case (so peak memory
 is per case): D in {2, 3}; N in {1e3, 1e4, 1e5, 1e6}; phi in {0.05, 0.3, 0.7} (2D) or {0.05, 0.3, 0.5}
 (3D); elastic and eps = 0.9; periodic box; each case equilibrated elastically for 2 collisions per
 particle (1 from N = 1e5 on), then timed over about 1e6 collisions (at least half a collision per
 particle). Three passes over the matrix: a case's entry is the median and spread of its three
 measurements, taken minutes apart. Runs in about 10 minutes on 2 cores.
 
-Appends one JSON line per case to the history file (commit, date, machine, CPU model, collisions/s
-median and spread, peak heap bytes per particle), prints a table, and flags every case that is more
-than 10 % slower than the previous entry of the same case on the same machine. A case that comes out
+Appends one JSON line per case to the history file (commit, date, machine, CPU model, the instruction
+set the binary was compiled for, collisions/s median and spread, peak heap bytes per particle), prints
+a table, and flags every case that is more than 10 % slower than the previous entry of the same case
+on the same machine and instruction set. A case that comes out
 slower is first measured twice more (--confirm) and its entry becomes the median of all its
 measurements, so that a neighbour on a shared machine slowing some measurements is not taken for a
 regression, while a slower build, slow every time, is flagged.
@@ -23,13 +25,15 @@ their ratio edmd/peer, and a ratio more than --threshold below the previous entr
 measured in one run survive the machine's noise better than absolute rates. Without the peers this
 part is skipped with a note. About 10 more minutes on 2 cores. Beside the rates, each peer case up to
 --instructions-max-n (default 1e5) records the instructions per collision of both codes by cachegrind
-(scripts/instructions.py: deterministic, so a growth of edmd's count by more than 3 % over the
+(scripts/instructions.py, with the generic x86-64 build of both codes, --instructions-bench:
+deterministic, so a growth of edmd's count by more than 3 % over the
 previous entry is flagged however noisy the machine); about 5 more minutes where valgrind is
 installed, skipped with a note where it is not.
 
 Exits 1 when a case is flagged (unless --no-fail), 2 on usage errors.
 
-    scripts/bench-nightly.py [--history benches/history.jsonl] [--only D=2,N=10000]
+    scripts/bench-nightly.py [--bench BIN] [--instructions-bench BIN]
+                             [--history benches/history.jsonl] [--only D=2,N=10000]
                              [--threshold 0.10] [--passes 3] [--confirm 2] [--peers DIR | --no-peers]
                              [--instructions-max-n N]
 """
@@ -105,7 +109,21 @@ def commit_id() -> str:
 
 
 def key(row: dict) -> tuple:
-    return (row["machine"], row["d"], row["n"], row["phi"], row["eps"], row.get("peer"))
+    # Builds for different instruction sets are different programs: each is compared with its own
+    # kind (entries from before the field were all of the generic x86-64 build).
+    return (row["machine"], row.get("isa", "x86-64"), row["d"], row["n"], row["phi"], row["eps"], row.get("peer"))
+
+
+def built_for(bench: Path) -> str | None:
+    """The instruction set `bench` was compiled for (its `isa` field), from one short run; None (after
+    an error message) if it does not run."""
+    cmd = [str(bench), "--json", "--d", "2", "--n", "1000", "--phi", "0.3", "--repeats", "1",
+           "--collisions-per-particle", "0.5", "--melt-tau", "0.5"]
+    p = subprocess.run(cmd, capture_output=True, text=True)
+    if p.returncode != 0:
+        print(f"error: {bench} does not run: {p.stderr.strip() or p.stdout.strip()}", file=sys.stderr)
+        return None
+    return json.loads(p.stdout.strip().splitlines()[-1]).get("isa", "x86-64")
 
 
 def parse_only(text: str | None) -> dict:
@@ -147,7 +165,7 @@ def summarize(ms: list[dict]) -> dict:
     mid = len(rates) // 2
     median = rates[mid] if len(rates) % 2 else 0.5 * (rates[mid - 1] + rates[mid])
     return {
-        **{k: ms[0][k] for k in ("commit", "date", "machine", "cpu", "cores", "d", "n", "phi", "eps")},
+        **{k: ms[0][k] for k in ("commit", "date", "machine", "cpu", "cores", "isa", "d", "n", "phi", "eps")},
         "collisions_per_s": round(median),
         "spread": round((rates[-1] - rates[0]) / median, 4),
         "bytes_per_particle": max(m["bytes_per_particle"] for m in ms),
@@ -160,7 +178,8 @@ def summarize(ms: list[dict]) -> dict:
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--history", default=str(ROOT / "benches" / "history.jsonl"), help="JSON-lines history file (appended)")
-    ap.add_argument("--bench", default=str(ROOT / "target" / "dist" / "edmd-bench"), help="edmd-bench binary")
+    ap.add_argument("--bench", default=str(ROOT / "target" / "dist" / "edmd-bench"), help="edmd-bench binary timed (`make bench-nightly`: built for this processor, as the peers are)")
+    ap.add_argument("--instructions-bench", default=str(ROOT / "target" / "dist" / "edmd-bench"), help="edmd-bench binary counted by cachegrind (the generic x86-64 build, as the peers are for the count)")
     ap.add_argument("--machine", default=os.environ.get("EDMD_BENCH_MACHINE"), help="machine name (default: CPU model and core count; env EDMD_BENCH_MACHINE)")
     ap.add_argument("--only", help="run the matching cases only, e.g. D=2,N=10000")
     ap.add_argument("--threshold", type=float, default=0.10, help="flag cases slower than the previous entry by more than this fraction (default 0.10)")
@@ -183,7 +202,7 @@ def main() -> int:
         return 2
     bench = Path(args.bench)
     if not bench.is_file():
-        print(f"error: benchmark binary {bench} not found: build it with `cargo build --profile dist --bin edmd-bench`", file=sys.stderr)
+        print(f"error: benchmark binary {bench} not found: build it with `make bench-bin` (or `cargo build --profile dist --bin edmd-bench`)", file=sys.stderr)
         return 2
     only = parse_only(args.only)
     cases = [c for c in matrix() if all(abs(c[k] - v) < 1e-12 for k, v in only.items())]
@@ -204,19 +223,23 @@ def main() -> int:
     cpu = cpu_model()
     cores = os.cpu_count() or 1
     machine = args.machine or f"{cpu} x{cores}"
+    isa = built_for(bench)
+    if isa is None:
+        return 2
     run = {
         "commit": commit_id(),
         "date": dt.datetime.now(dt.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ"),
         "machine": machine,
         "cpu": cpu,
         "cores": cores,
+        "isa": isa,
     }
     previous = {}
     for row in history:
         previous[key(row)] = row  # the latest entry of each case wins
 
     print(
-        f"bench-nightly: commit {run['commit']}, {run['date']}, machine {machine!r}, {len(cases)} cases, "
+        f"bench-nightly: commit {run['commit']}, {run['date']}, machine {machine!r}, edmd-bench built for {isa}, {len(cases)} cases, "
         f"{args.passes} passes"
     )
     # Each pass times every case once, in its own process; a case's entry is the median over the passes.
@@ -341,11 +364,11 @@ def side_by_side(args, bench: Path, run: dict, previous: dict, only: dict) -> li
         was = f"{prev['ratio']:8.2f}" if prev else f"{'-':>8}"
         print(f"{d:>2} {n:>8} {peers.PHI[d]:>5} {o:11.0f} {p:11.0f} {o / p:6.2f} {was}  {peers.NAME[d]}", flush=True)
         out.append((row, prev))
-    count_instructions(args, bench, folder, out)
+    count_instructions(args, folder, out)
     return out
 
 
-def count_instructions(args, bench: Path, folder: Path, out: list[tuple[dict, dict | None]]) -> None:
+def count_instructions(args, folder: Path, out: list[tuple[dict, dict | None]]) -> None:
     """Adds both codes' instructions per collision (cachegrind) to the rows up to --instructions-max-n."""
     todo = [row for row, _ in out if row["n"] <= args.instructions_max_n]
     if not todo:
@@ -353,7 +376,11 @@ def count_instructions(args, bench: Path, folder: Path, out: list[tuple[dict, di
     if shutil.which("valgrind") is None:
         print("bench-nightly: instruction counts skipped: valgrind is not installed")
         return
-    instructions.BENCH = bench
+    counted = Path(args.instructions_bench)
+    if not counted.is_file():
+        print(f"bench-nightly: instruction counts skipped: {counted} not found (cargo build --profile dist --bin edmd-bench)")
+        return
+    instructions.BENCH = counted
     generic = instructions.build_generic(folder)
     print(f"{'D':>2} {'N':>8} {'edmd instr/coll':>16} {'peer instr/coll':>16} {'ratio':>6}")
     for row in todo:

@@ -204,7 +204,28 @@ struct Report {
     collisions_per_s: f64,
     spread: f64,
     bytes_per_particle: f64,
+    /// The instruction set the binary was compiled for: [`BUILT_FOR`].
+    isa: &'static str,
 }
+
+/// The instruction set this binary was compiled for (`-C target-cpu`), so that a benchmark's history
+/// keeps builds apart: "x86-64" for the default build (whose list scans still pick AVX2 at run time
+/// where the processor has it), "x86-64-v3" where AVX2 and FMA are on throughout (e.g. `-C
+/// target-cpu=native` on such a processor), "x86-64-v4" with AVX-512 too; other architectures by
+/// name.
+const BUILT_FOR: &str = if cfg!(all(target_arch = "x86_64", target_feature = "avx512f")) {
+    "x86-64-v4"
+} else if cfg!(all(
+    target_arch = "x86_64",
+    target_feature = "avx2",
+    target_feature = "fma"
+)) {
+    "x86-64-v3"
+} else if cfg!(target_arch = "x86_64") {
+    "x86-64"
+} else {
+    std::env::consts::ARCH
+};
 
 fn main() {
     if let Err(e) = real_main(Args::parse()) {
@@ -291,6 +312,7 @@ fn real_main(args: Args) -> Result<(), String> {
             collisions_per_s: o.median.round(),
             spread: round(o.spread, 4),
             bytes_per_particle: round(o.bytes_per_particle, 1),
+            isa: BUILT_FOR,
         };
         println!(
             "{}",
