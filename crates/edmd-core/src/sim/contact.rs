@@ -82,7 +82,16 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         }
         if R::ROTATES && self.rule.rotates() {
             let theta = self.rule.rotation_angle(&mut self.rng);
-            (vi, vj) = rotate_relative(vi, vj, mi, mj, &normal, theta, &mut self.rng);
+            if B::SHEARED {
+                // Rotate the relative velocity of i's image, the one the pair has across a sliding
+                // face; the lab-frame difference carries the faces' relative speed ±a L_y.
+                let slide = vi_img - pi.vel;
+                let (wi, wj) =
+                    rotate_relative(vi + slide, vj, mi, mj, &normal, theta, &mut self.rng);
+                (vi, vj) = (wi - slide, wj);
+            } else {
+                (vi, vj) = rotate_relative(vi, vj, mi, mj, &normal, theta, &mut self.rng);
+            }
         }
         self.particles[i].vel = vi;
         self.particles[i].r0 = pos_i - vi * now;
@@ -94,11 +103,13 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         // Physical momentum transfer (the simulated one carries the deep-cooling scale).
         self.counters.virial += impulse * dist * self.inv_scale;
         if B::SHEARED {
-            // The whole impulse on i (normal, tangential, rotated), against the separation.
+            // The whole impulse on i (normal, tangential, rotated) times the separation: a-momentum
+            // carried along b. Tangential and rotated impulses make it asymmetric, and the shear's
+            // work is −a times the [0][1] entry (PHYSICS.md §7).
             let dp = (vi - pi.vel) * mi;
             for a in 0..D {
                 for b in 0..D {
-                    self.counters.virial_tensor[a][b] += dr[a] * dp[b];
+                    self.counters.virial_tensor[a][b] += dp[a] * dr[b];
                 }
             }
             let vi_after = vi + (vi_img - pi.vel);

@@ -57,6 +57,8 @@ pub trait Engine<const D: usize>: Send {
     /// Peculiar velocities V = v − a (y − L_y/2) e_x of a sheared scene (the physical velocities
     /// elsewhere), in the original particle order.
     fn peculiar_velocities(&self) -> Vec<Vector<D>>;
+    /// Zeroes the sheared scene's interval sums (the collisional stress and the dissipated energy).
+    fn restart_shear_sums(&mut self);
 }
 
 impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar + Send> Engine<D>
@@ -121,5 +123,8 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar + Send> Engine<D
     }
     fn peculiar_velocities(&self) -> Vec<Vector<D>> {
         Simulation::peculiar_velocities(self)
+    }
+    fn restart_shear_sums(&mut self) {
+        Simulation::restart_shear_sums(self)
     }
 }

@@ -195,13 +195,17 @@ pub struct Counters {
     pub crossings: u64,
     /// Σ over pair collisions of `r_ij · Δp_i` (the collision virial), in the simulation's units.
     pub virial: f64,
-    /// Sheared scenes: Σ over pair collisions of `(r_ij)_a (Δp_i)_b` (the whole impulse: normal,
+    /// Sheared scenes: Σ over pair collisions of `(Δp_i)_a (r_ij)_b` (the whole impulse: normal,
     /// tangential of rough grains, a remedy's rotation), row a, column b, the first D × D entries
-    /// used; the collisional pressure tensor times the volume and the time (0 elsewhere). Entry
-    /// [0][1] is the collisional shear stress's.
+    /// used; the collisional pressure tensor times the volume and the time (0 elsewhere): the flux
+    /// of a-momentum along b, asymmetric where impulses leave the line of centres. Entry [0][1] is
+    /// the collisional shear stress whose product with −a is the shear's work. Summed since the start or the last
+    /// [`Simulation::restart_shear_sums`].
     pub virial_tensor: [[f64; 3]; 3],
     /// Sheared scenes: the kinetic energy (translational and rotational) the collisions removed
-    /// (0 elsewhere).
+    /// (0 elsewhere), since the start or the last [`Simulation::restart_shear_sums`]: a sum over
+    /// one sample interval keeps the interval's own precision, where a running total would round
+    /// away the small losses of a cold gas against the large ones of its start.
     pub dissipated: f64,
 }
 

@@ -112,6 +112,13 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         };
     }
 
+    /// Zeroes the sheared scene's interval sums, [`Counters::virial_tensor`] and
+    /// [`Counters::dissipated`], so that they sum the next interval alone.
+    pub fn restart_shear_sums(&mut self) {
+        self.counters.virial_tensor = [[0.0; 3]; 3];
+        self.counters.dissipated = 0.0;
+    }
+
     /// The box sides.
     pub fn box_len(&self) -> &Vector<D> {
         &self.box_len

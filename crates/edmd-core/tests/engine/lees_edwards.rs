@@ -2,8 +2,8 @@
 //!
 //! * **Energy balance, exactly.** Between events a grain's peculiar velocity V = v − a (y − L_y/2) e_x
 //!   changes as dV_x/dt = −a V_y; a collision changes the pair's peculiar energy by
-//!   −a (r_ij)_x (Δp_i)_y beyond what the law removes; crossings of the sliding faces leave V as it
-//!   was. So E_pec(t) − E_pec(0) = −a ∫ Σ m V_x V_y dt − a Σ_coll (r_ij)_x (Δp_i)_y − (energy the
+//!   −a (Δp_i)_x (r_ij)_y beyond what the law removes; crossings of the sliding faces leave V as it
+//!   was. So E_pec(t) − E_pec(0) = −a ∫ Σ m V_x V_y dt − a Σ_coll (Δp_i)_x (r_ij)_y − (energy the
 //!   law removed), i.e. −a V ∫ P_xy dt for elastic grains. The test integrates the kinetic part
 //!   exactly from event to event (Σ m V_x V_y is linear in time between events, slope −a Σ m V_y²)
 //!   and holds the balance to 10⁻⁹ of the energy: any image, shift or crossing taken at the wrong
@@ -22,7 +22,7 @@ use edmd_core::{
     Vector,
 };
 
-fn build<const D: usize, R: CollisionRule>(
+pub(crate) fn build<const D: usize, R: CollisionRule>(
     n: usize,
     phi: f64,
     rate: f64,
@@ -54,7 +54,7 @@ fn build_with_skin<const D: usize, R: CollisionRule>(
 }
 
 /// Peculiar energy, Σ m V_x V_y and Σ m V_y².
-fn peculiar<const D: usize, R: CollisionRule>(
+pub(crate) fn peculiar<const D: usize, R: CollisionRule>(
     sim: &Simulation<D, LeesEdwards, R>,
 ) -> (f64, f64, f64) {
     let (mut e, mut kxy, mut syy) = (0.0, 0.0, 0.0);
@@ -68,16 +68,18 @@ fn peculiar<const D: usize, R: CollisionRule>(
 
 /// The exact time integral of Σ m V_x V_y, advanced event by event: between events it is linear in
 /// time with slope −a Σ m V_y².
-struct KineticStress {
+pub(crate) struct KineticStress {
     rate: f64,
     kxy: f64,
     syy: f64,
     t: f64,
-    integral: f64,
+    pub(crate) integral: f64,
 }
 
 impl KineticStress {
-    fn new<const D: usize, R: CollisionRule>(sim: &Simulation<D, LeesEdwards, R>) -> Self {
+    pub(crate) fn new<const D: usize, R: CollisionRule>(
+        sim: &Simulation<D, LeesEdwards, R>,
+    ) -> Self {
         let (_, kxy, syy) = peculiar(sim);
         KineticStress {
             rate: sim.shear_rate(),
@@ -89,7 +91,10 @@ impl KineticStress {
     }
 
     /// After an event: the integral up to now, then the new state's values.
-    fn advance<const D: usize, R: CollisionRule>(&mut self, sim: &Simulation<D, LeesEdwards, R>) {
+    pub(crate) fn advance<const D: usize, R: CollisionRule>(
+        &mut self,
+        sim: &Simulation<D, LeesEdwards, R>,
+    ) {
         let dt = sim.time() - self.t;
         self.integral += self.kxy * dt - 0.5 * self.rate * self.syy * dt * dt;
         (_, self.kxy, self.syy) = peculiar(sim);

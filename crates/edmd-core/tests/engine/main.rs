@@ -10,6 +10,7 @@ mod fuzz;
 mod gravity;
 mod haff;
 mod lees_edwards;
+mod lees_edwards_rules;
 mod mixture;
 mod oracle;
 mod overlaps;

@@ -12,13 +12,12 @@ pub fn profile_bins(side: f64) -> usize {
     (side.floor() as usize).clamp(1, 32)
 }
 
-/// The counters at the previous sample, from which the interval averages are taken.
+/// The clock and collision count at the previous sample; the engine's shear sums (stress and
+/// dissipation) restart there, so that each interval is summed at its own precision.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 struct Mark {
     time: f64,
-    tensor: [[f64; 3]; 3],
     collisions: u64,
-    dissipated: f64,
 }
 
 /// Per sample of a sheared replica (empty elsewhere). Tensors are D × D, row-major.
@@ -47,8 +46,8 @@ pub struct ShearSeries {
 
 impl ShearSeries {
     /// Samples `sim` now (masses in the original particle order).
-    pub(super) fn sample<const D: usize>(&mut self, sim: &dyn Engine<D>, masses: &[f64]) {
-        let sides = sim.box_len();
+    pub(super) fn sample<const D: usize>(&mut self, sim: &mut dyn Engine<D>, masses: &[f64]) {
+        let sides = *sim.box_len();
         let volume: f64 = sides.iter().product();
         let n = sim.len() as f64;
         let mut kinetic = vec![0.0; D * D];
@@ -67,23 +66,25 @@ impl ShearSeries {
                 let mut p = vec![0.0; D * D];
                 for a in 0..D {
                     for b in 0..D {
-                        p[a * D + b] = (c.virial_tensor[a][b] - m.tensor[a][b]) / (volume * dt);
+                        p[a * D + b] = c.virial_tensor[a][b] / (volume * dt);
                     }
                 }
                 (
                     p,
                     2.0 * (c.pair_collisions - m.collisions) as f64 / (n * dt),
-                    (c.dissipated - m.dissipated) / (volume * dt),
+                    c.dissipated / (volume * dt),
                 )
             }
             _ => (vec![f64::NAN; D * D], f64::NAN, f64::NAN),
         };
-        self.mark = Some(Mark {
-            time: now,
-            tensor: c.virial_tensor,
-            collisions: c.pair_collisions,
-            dissipated: c.dissipated,
-        });
+        // A second sample at the same time keeps the sums for the next interval.
+        if self.mark.is_none_or(|m| now > m.time) {
+            self.mark = Some(Mark {
+                time: now,
+                collisions: c.pair_collisions,
+            });
+            sim.restart_shear_sums();
+        }
         self.pressure_tensor.push(
             kinetic
                 .iter()

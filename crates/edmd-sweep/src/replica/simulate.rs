@@ -169,7 +169,7 @@ fn drive<const D: usize>(
     let mut reported = 0u64;
     let mut sampled_at: Option<u64> = None;
 
-    let sample = |sim: &dyn Engine<D>,
+    let sample = |sim: &mut dyn Engine<D>,
                   series: &mut Series,
                   snapshots: &mut Vec<Snapshot>,
                   meter: &mut Option<VirialMeter>,
@@ -305,7 +305,7 @@ fn drive<const D: usize>(
         let snap = next_snapshot.is_some_and(|t| same_point(t, point));
         let c = sim.counters().pair_collisions;
         if sampled_at != Some(c) {
-            sample(&*sim, &mut series, &mut snapshots, &mut meter, snap);
+            sample(&mut *sim, &mut series, &mut snapshots, &mut meter, snap);
         } else if snap && snapshots.last().map(|s| s.step) != Some(c as i64) {
             // Two schedule points on one collision (small N): one sample, and the snapshot asked
             // for here is the state already sampled.
@@ -339,7 +339,7 @@ fn drive<const D: usize>(
     let final_snapshot = spec.snapshots.last;
     if sampled_at != Some(c) {
         sample(
-            &*sim,
+            &mut *sim,
             &mut series,
             &mut snapshots,
             &mut meter,
