@@ -279,3 +279,66 @@ fn snapshot_grids_store_the_merged_times_and_leave_the_trajectory_alone() {
     );
     assert_eq!(&with_grid[with_grid.len() - 2 * n..], &alone[..]);
 }
+
+/// Runs `spec` into `dir/name`, killed after `limit` seconds; returns whether it ended in time, its
+/// exit status and stderr.
+fn run_within(dir: &std::path::Path, name: &str, spec: &str, limit: f64) -> (bool, String) {
+    use std::time::{Duration, Instant};
+    let path = crate::common::write(dir, &format!("{name}.json"), spec);
+    let out = dir.join(name);
+    let mut child = crate::common::edmd()
+        .args([
+            "run",
+            path.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "-q",
+        ])
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let start = Instant::now();
+    while child.try_wait().unwrap().is_none() {
+        if start.elapsed().as_secs_f64() > limit {
+            child.kill().unwrap();
+            child.wait().unwrap();
+            return (false, String::new());
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let output = child.wait_with_output().unwrap();
+    (true, String::from_utf8_lossy(&output.stderr).into_owned())
+}
+
+/// Columns compressed far below a grain (hardening case 3): gravity 10⁶ on a floor at T 10⁻¹²
+/// (ℓ = T/(mg) = 10⁻¹⁸) hung in the barometric theory, whose integration took steps of ℓ/2000;
+/// gravity 1 on a floor at 0.01 spent 33 s writing its files. The theory's cost is now set by
+/// the heights it is sampled on: the first ends within seconds as stalled, naming the floor's
+/// cascade, the second writes its files at once. Both had a minute; each needs well under one second.
+#[test]
+fn columns_far_thinner_than_a_grain_end_at_once() {
+    let tmp = tempfile::tempdir().unwrap();
+    let spec = |name: &str, g: &str, floor: &str| {
+        format!(
+            r#"{{"name": "{name}", "grid": {{"boundary": "channel", "gravity": {g}, "floor_temperature": {floor},
+                "eps": 1, "phi": 0.05, "n": 200}}, "stop": {{"tau_max": 50}}, "samples": {{"every": 5}}}}"#
+        )
+    };
+    let (ended, stderr) = run_within(
+        tmp.path(),
+        "pressed",
+        &spec("pressed", "1e6", "1e-12"),
+        60.0,
+    );
+    assert!(
+        ended,
+        "gravity 1e6 on a floor at 1e-12 did not end within a minute"
+    );
+    assert!(stderr.contains("stalled"), "{stderr}");
+    let (ended, stderr) = run_within(tmp.path(), "thin", &spec("thin", "1", "0.01"), 60.0);
+    assert!(
+        ended,
+        "gravity 1 on a floor at 0.01 did not end within a minute"
+    );
+    assert!(!stderr.contains("error"), "{stderr}");
+}

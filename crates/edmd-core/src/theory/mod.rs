@@ -5,7 +5,7 @@ use std::f64::consts::PI;
 
 mod gravity;
 mod mixture;
-pub use gravity::{barometric_floor, barometric_profile};
+pub use gravity::{barometric_floor, barometric_phi_max, barometric_profile};
 mod rough;
 pub use mixture::{
     cooling_rates, pair_correlation, temperature_ratios, Component, PairCorrelation,

@@ -186,7 +186,7 @@ fn theory_decay_length(temperature: f64, g: f64, n: usize, box_len: Vector<2>) -
     // Centres live in [1/2, H − 1/2]; φ over that layer.
     let height = box_len[1] - 1.0;
     let mean = n as f64 * std::f64::consts::PI / 4.0 / (box_len[0] * height);
-    let floor = barometric_floor(2, ell, mean, 0.0, height);
+    let floor = barometric_floor(2, ell, mean, 0.0, height).unwrap();
     let z: Vec<f64> = (0..29).map(|b| 2.5 + 2.0 * b as f64).collect();
     let phi = barometric_profile(2, ell, floor, &z);
     let ys: Vec<f64> = phi.iter().map(|p| p.ln()).collect();

@@ -94,7 +94,8 @@ pub struct ProfileTheory {
 const SUB_POINTS: usize = 8;
 
 /// The barometric profile of an elastic (ε = 1, elastic walls) column of one species under gravity;
-/// None for any other scene (an inelastic column is not isothermal).
+/// None for any other scene (an inelastic column is not isothermal) and for a column denser at its
+/// floor than the fluid's equation of state reaches ([`edmd_core::theory::barometric_phi_max`]).
 pub fn density_profile_theory(r: &Replica, s: &Series, bins: usize) -> Option<ProfileTheory> {
     if r.gravity <= 0.0 || r.eps != 1.0 || r.wall_eps != 1.0 || r.species.is_some() || bins == 0 {
         return None;
@@ -113,7 +114,8 @@ pub fn density_profile_theory(r: &Replica, s: &Series, bins: usize) -> Option<Pr
     let layer = height - 1.0;
     let mean = r.grain_volume() / (cross * layer);
     let ell = temperature / r.gravity;
-    let floor = barometric_floor(d, ell, mean, 0.0, layer);
+    // None for a column pressed onto its floor (ℓ far below a grain), which no fluid describes.
+    let floor = barometric_floor(d, ell, mean, 0.0, layer)?;
     let width = height / bins as f64;
     let points: Vec<f64> = (0..bins * SUB_POINTS)
         .map(|k| (k as f64 + 0.5) * width / SUB_POINTS as f64)
