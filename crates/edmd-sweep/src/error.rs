@@ -29,7 +29,7 @@ pub enum SweepError {
         source: std::io::Error,
     },
     /// The HDF5 library failed on a file.
-    #[error("{}", path.display())]
+    #[error("{}{}", path.display(), os_reason(source))]
     Hdf5 {
         /// The file.
         path: PathBuf,
@@ -67,4 +67,17 @@ impl SweepError {
         }
         s
     }
+}
+
+/// `: <the system's reason>` where an HDF5 error carries one ("No space left on device"), so that
+/// the first words of the message say what happened; the whole HDF5 text follows as the cause.
+fn os_reason(e: &hdf5::Error) -> String {
+    let text = e.to_string();
+    let Some(start) = text.find("error message = '") else {
+        return String::new();
+    };
+    let rest = &text[start + "error message = '".len()..];
+    rest.find('\'')
+        .map(|end| format!(": {}", &rest[..end]))
+        .unwrap_or_default()
 }

@@ -50,11 +50,24 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), SweepError> {
     let result = file
         .write_all(bytes)
         .and_then(|_| file.sync_all())
-        .and_then(|_| fs::rename(&tmp, path));
+        .and_then(|_| fs::rename(&tmp, path))
+        .and_then(
+            |_| match path.parent().filter(|d| !d.as_os_str().is_empty()) {
+                Some(dir) => fs::File::open(dir)?.sync_all(),
+                None => fs::File::open(".")?.sync_all(),
+            },
+        );
     result.map_err(|e| {
         let _ = fs::remove_file(&tmp);
         SweepError::io("cannot write", path, e)
     })
+}
+
+/// Syncs the directory `dir`, so that a rename into it survives a crash.
+fn sync_dir(dir: &Path) -> Result<(), SweepError> {
+    fs::File::open(dir)
+        .and_then(|d| d.sync_all())
+        .map_err(|e| SweepError::io("cannot sync", dir, e))
 }
 
 /// A temporary name beside `path`, unique to this process.
@@ -311,11 +324,26 @@ impl OutDir {
         let index = self.root.join("sweep.h5");
         let tmp = tmp_path(&index);
         crate::files::create_fresh(&tmp)?;
+        // Written, closed, synced and read back whole before it replaces the previous index.
         let written = write_index_h5(&tmp, spec, records)
-            .map_err(|e| SweepError::hdf5(&tmp, e))
+            .map_err(|e| SweepError::hdf5(&index, e))
+            .and_then(|_| {
+                fs::File::open(&tmp)
+                    .and_then(|f| f.sync_all())
+                    .map_err(|e| SweepError::io("cannot sync", &tmp, e))
+            })
+            .and_then(|_| {
+                check_index(&tmp, spec, records).map_err(|reason| {
+                    SweepError::Output(format!(
+                        "{}: written but unreadable: {reason}",
+                        index.display()
+                    ))
+                })
+            })
             .and_then(|_| {
                 fs::rename(&tmp, &index).map_err(|e| SweepError::io("cannot write", &index, e))
-            });
+            })
+            .and_then(|_| sync_dir(&self.root));
         if let Err(e) = written {
             let _ = fs::remove_file(&tmp);
             return Err(e);
@@ -344,17 +372,56 @@ impl OutDir {
     }
 }
 
+/// Writes the index into `path`, closing every group before the file, so that flush and close
+/// report the last writes' errors (a close with objects still open is deferred by HDF5, and its
+/// errors are lost).
 fn write_index_h5(path: &Path, spec: &Spec, records: &[Record]) -> hdf5::Result<()> {
     let file = hdf5::File::create(path)?;
-    attr_i64(&file, "schema_version", SCHEMA_VERSION)?;
-    attr_str(&file, "sweep_name", &spec.name)?;
-    attr_str(&file, "spec", &spec.canonical_json())?;
-    attr_str(&file, "spec_hash", &spec.hash())?;
+    fill_index(&file, spec, records)?;
+    file.flush()?;
+    file.close()
+}
+
+fn fill_index(file: &hdf5::File, spec: &Spec, records: &[Record]) -> hdf5::Result<()> {
+    attr_i64(file, "schema_version", SCHEMA_VERSION)?;
+    attr_str(file, "sweep_name", &spec.name)?;
+    attr_str(file, "spec", &spec.canonical_json())?;
+    attr_str(file, "spec_hash", &spec.hash())?;
     Record::write_columns(&file.create_group("replicas")?, records)?;
     let links = file.create_group("files")?;
     for r in records.iter().filter(|r| r.status.has_file()) {
         let stem = r.file.trim_end_matches(".h5");
         links.link_external(&format!("replicas/{}", r.file), "/", stem)?;
     }
-    file.close()
+    Ok(())
+}
+
+/// Reads a written index back whole: its spec hash, and every replica's row and link.
+fn check_index(path: &Path, spec: &Spec, records: &[Record]) -> Result<(), String> {
+    let check = || -> hdf5::Result<Option<String>> {
+        let file = hdf5::File::open(path)?;
+        let hash: hdf5::types::VarLenUnicode = file.attr("spec_hash")?.read_scalar()?;
+        if hash.as_str() != spec.hash() {
+            return Ok(Some("its spec hash does not read back".into()));
+        }
+        let index = file.dataset("replicas/index")?.read_raw::<u64>()?;
+        if index.len() != records.len() {
+            return Ok(Some(format!(
+                "{} rows read back of {}",
+                index.len(),
+                records.len()
+            )));
+        }
+        let links = file.group("files")?.member_names()?.len();
+        let expected = records.iter().filter(|r| r.status.has_file()).count();
+        if links != expected {
+            return Ok(Some(format!("{links} links read back of {expected}")));
+        }
+        Ok(None)
+    };
+    match check() {
+        Ok(None) => Ok(()),
+        Ok(Some(reason)) => Err(reason),
+        Err(e) => Err(e.to_string()),
+    }
 }

@@ -6,6 +6,7 @@
 //! * `early_end`: runs that must not end `done` by mistake; no file written through a symbolic link.
 //! * `hardening`: a disk that fills, files corrupted after the fact, two runs into one output,
 //!   misuse and oversized values.
+//! * `index_writes`: an index that cannot be written whole is never put in place.
 //! * `refine`: rounds that resume after SIGKILL, shards and `--plan`, refusals.
 //! * `scenes`: rough grains, mixtures, gravity with a thermal floor, wall restitution, boxes.
 //! * `sheared`: the sheared gas from a spec: files, steady state, bad specs, resume.
@@ -18,6 +19,7 @@ mod common;
 mod cli;
 mod early_end;
 mod hardening;
+mod index_writes;
 mod refine;
 mod scenes;
 mod sheared;
