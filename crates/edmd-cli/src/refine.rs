@@ -21,11 +21,11 @@ use crate::{say_problems, say_ran, thread_count, FormatArg};
 pub struct RefineArgs {
     /// Sweep output directory (of `edmd run`; its spec.json records the refinement).
     pub out: PathBuf,
-    /// Rounds in all (a rerun continues to this many).
-    #[arg(long, default_value_t = 3)]
+    /// Rounds in all, at least 1 (a rerun continues to this many).
+    #[arg(long, default_value_t = 3, value_parser = at_least_one)]
     pub rounds: usize,
-    /// Replicas the refinement may add in all [default: no limit].
-    #[arg(long, value_name = "R")]
+    /// Replicas the refinement may add in all, at least 1 [default: no limit].
+    #[arg(long, value_name = "R", value_parser = at_least_one)]
     pub budget: Option<usize>,
     /// Axes to bisect, e.g. eps,box (of eps, phi, box, n, beta) [default: those the grid varies,
     /// or those of an earlier round].
@@ -51,6 +51,15 @@ pub struct RefineArgs {
     /// Format of the phase table printed at the end.
     #[arg(long, value_enum, default_value_t = FormatArg::Table)]
     pub format: FormatArg,
+}
+
+/// A count that must be at least 1 (`--rounds 0` would record a refinement without running one).
+fn at_least_one(s: &str) -> Result<usize, String> {
+    match s.parse::<usize>() {
+        Ok(0) => Err("must be at least 1".into()),
+        Ok(n) => Ok(n),
+        Err(_) => Err("expected a whole number of at least 1".into()),
+    }
 }
 
 /// `edmd refine`: rounds of run, plan, extend the spec, until the rounds, the budget or the pairs

@@ -8,6 +8,7 @@
 //!   misuse and oversized values.
 //! * `index_writes`: an index that cannot be written whole is never put in place.
 //! * `refine`: rounds that resume after SIGKILL, shards and `--plan`, refusals.
+//! * `refine_points`: points known by their parameters; axes named once; rounds of at least 1.
 //! * `scenes`: rough grains, mixtures, gravity with a thermal floor, wall restitution, boxes.
 //! * `sheared`: the sheared gas from a spec: files, steady state, bad specs, resume.
 //! * `spec_fuzz`: hostile spec fields get exit 0 or 1 with one line, never a panic.
@@ -21,6 +22,7 @@ mod early_end;
 mod hardening;
 mod index_writes;
 mod refine;
+mod refine_points;
 mod scenes;
 mod sheared;
 mod spec_fuzz;

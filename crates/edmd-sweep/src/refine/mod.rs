@@ -39,12 +39,13 @@ const AXIS_FIELDS: [&str; 12] = [
 ];
 const LIST_AXIS_FIELDS: [&str; 2] = ["species", "aspect"];
 
-/// One grid point: a grid of single values, its canonical JSON object and its seeds' classes.
+/// One grid point: a grid of single values, its normal form and its seeds' classes.
 #[derive(Debug, Clone)]
 pub struct Point {
-    /// The point as a grid of single values.
+    /// The point as a grid of single values (with its grid's seeds).
     pub grid: Grid,
-    /// Its JSON object (every field a single value).
+    /// Its normal form ([`normal_form`]): every field a single value, without the seeds, with β
+    /// explicit. Two points are the same point exactly when their normal forms are equal.
     pub json: Map<String, Value>,
     /// The classes of its seeds that ran and were classified.
     pub classes: Vec<String>,
@@ -64,12 +65,20 @@ impl Point {
         serde_json::to_string(&m).expect("a map serialises")
     }
 
-    /// The fields fixed along the line through this point along `axis`.
+    /// The fields fixed along the line through this point along `axis` (β of smooth grains left out,
+    /// as specs leave it out).
     pub fn line(&self, axis: RefineAxis) -> Map<String, Value> {
         let mut m = self.json.clone();
         m.remove(axis.name());
-        m.remove("seeds");
+        if m.get("beta").and_then(Value::as_f64) == Some(SMOOTH_BETA) {
+            m.remove("beta");
+        }
         m
+    }
+
+    /// The key of this point's normal form.
+    fn key(&self) -> String {
+        serde_json::to_string(&self.json).expect("a map serialises")
     }
 
     /// The majority class and its share of the classified seeds (None without any).
@@ -153,6 +162,24 @@ fn to_grid(json: &Map<String, Value>) -> Grid {
     serde_json::from_value(Value::Object(json.clone())).expect("a point of a valid grid parses")
 }
 
+/// β of smooth grains, the value a grid without `beta` has.
+const SMOOTH_BETA: f64 = -1.0;
+
+/// The normal form of a point's JSON: parsed into a grid and written again (so that a default
+/// written out and one left out agree, as do `1` and `1.0`), without the seeds (the same point may
+/// be run with other seeds by another grid), and with β explicit (β = −1 is left out of a written
+/// grid, but it is a coordinate of the β axis).
+fn normal_form(json: &Map<String, Value>) -> Map<String, Value> {
+    let grid = to_grid(json);
+    let Value::Object(mut m) = serde_json::to_value(&grid).expect("a grid serialises") else {
+        unreachable!("a grid is an object")
+    };
+    m.retain(|_, v| !v.is_null());
+    m.remove("seeds");
+    m.entry("beta").or_insert(Value::from(SMOOTH_BETA));
+    m
+}
+
 /// Every point of a sweep (the grids', then the refinement's, each once) with its seeds' classes.
 pub fn points(spec: &Spec, records: &[Record]) -> Vec<Point> {
     let mut classes: HashMap<String, Vec<String>> = HashMap::new();
@@ -166,7 +193,8 @@ pub fn points(spec: &Spec, records: &[Record]) -> Vec<Point> {
     let mut out = Vec::new();
     for g in spec.grids() {
         for json in point_grids(&g) {
-            let key = serde_json::to_string(&json).expect("a map serialises");
+            let normal = normal_form(&json);
+            let key = serde_json::to_string(&normal).expect("a map serialises");
             if !seen.insert(key) {
                 continue;
             }
@@ -182,7 +210,7 @@ pub fn points(spec: &Spec, records: &[Record]) -> Vec<Point> {
                 .unwrap_or_default();
             out.push(Point {
                 grid,
-                json,
+                json: normal,
                 classes,
             });
         }
@@ -235,10 +263,7 @@ fn lines(points: &[Point], axis: RefineAxis) -> Vec<Vec<&Point>> {
 /// The points of the next round: the midpoints of the pairs to bisect along each axis, in axis,
 /// line and axis order, at most `budget` replicas' worth (each point costs its seeds).
 pub fn plan(points: &[Point], axes: &[RefineAxis], budget: usize) -> Vec<Grid> {
-    let mut existing: HashSet<String> = points
-        .iter()
-        .map(|p| serde_json::to_string(&p.json).expect("a map serialises"))
-        .collect();
+    let mut existing: HashSet<String> = points.iter().map(Point::key).collect();
     let mut out = Vec::new();
     let mut spent = 0;
     for &axis in axes {
@@ -262,11 +287,14 @@ pub fn plan(points: &[Point], axes: &[RefineAxis], budget: usize) -> Vec<Grid> {
                     Value::from(m)
                 };
                 json.insert(axis.name().into(), value);
+                let json = normal_form(&json);
                 let key = serde_json::to_string(&json).expect("a map serialises");
                 if existing.contains(&key) {
                     continue;
                 }
-                let grid = to_grid(&json);
+                let mut seeded = json.clone();
+                seeded.insert("seeds".into(), Value::from(p.grid.seeds));
+                let grid = to_grid(&seeded);
                 let cost = grid.seeds as usize;
                 if spent + cost > budget {
                     return out;
@@ -419,6 +447,14 @@ pub fn choose_axes(
                 .is_some_and(|v| v.len() > 1)
         })
     };
+    if let Some(a) = asked {
+        if let Some(twice) = a.iter().find(|x| a.iter().filter(|y| y == x).count() > 1) {
+            return Err(SweepError::Usage(format!(
+                "--axes: {} is named more than once; name each axis once",
+                twice.name()
+            )));
+        }
+    }
     let axes: Vec<RefineAxis> = match asked {
         Some(a) => a.to_vec(),
         None => match &spec.refinement {
