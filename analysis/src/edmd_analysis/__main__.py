@@ -56,6 +56,9 @@ def main(argv=None) -> int:
                               arrows=args.arrows, dpi=args.dpi, max_frames=args.max_frames,
                               size=args.size):
                 print(f"movie: {path}")
+    except KeyboardInterrupt:
+        print("interrupted: nothing half-written is left under a final name", file=sys.stderr)
+        return 130
     except (ValueError, KeyError) as e:
         print(f"error: {e}", file=sys.stderr)
         return 1

@@ -27,7 +27,7 @@ CATEGORIES = ("status", "class", "boundary", "remedy")
 PHASE_COLUMNS = {
     "dim": "int64", "boundary": "category", "remedy": "category", "n": "int64", "phi": "float64",
     "box_side": "float64", "eps": "float64", "beta": "float64", "species": "string",
-    "scene": "string", "seeds": "int64", "done": "int64", "collapsed": "int64", "stalled": "int64",
+    "scene": "string", "shear_rate": "float64", "seeds": "int64", "done": "int64", "collapsed": "int64", "stalled": "int64",
     "failed": "int64",
     "missing": "int64", "tau_end": "float64", "log10_t_ratio": "float64", "log10_t_haff": "float64",
     "l_over_l_perp": "float64", "l_over_l_par": "float64", "kinetic": "float64",

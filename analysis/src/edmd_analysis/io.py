@@ -127,10 +127,21 @@ def read_boundary(out) -> dict:
         path = path / "boundary.json"
     if not path.exists():
         raise FileNotFoundError(f"{path}: no boundary (written by `edmd refine {path.parent}`)")
-    data = json.loads(path.read_text())
-    if not isinstance(data, dict) or "crossings" not in data:
-        raise ValueError(f"{path}: not a boundary file (an object with 'crossings' expected)")
+    data = read_json(path)
+    if not isinstance(data, dict) or not {"crossings", "axes"} <= data.keys():
+        raise ValueError(f"{path}: not a boundary file (an object with 'axes' and 'crossings' "
+                         "expected); rerun `edmd refine` to write it again")
     return data
+
+
+def read_json(path) -> object:
+    """A JSON file edmd wrote (phase.json, boundary.json), with errors that name it."""
+    path = Path(path)
+    try:
+        return json.loads(path.read_text())
+    except (json.JSONDecodeError, UnicodeDecodeError) as e:
+        raise ValueError(f"{path}: not valid JSON ({e}); rerun `edmd run` (or `edmd summarize`) "
+                         "with the same spec and -o to write it again") from e
 
 
 # The statuses of replicas that have a file (edmd's `Status::has_file`).

@@ -26,7 +26,7 @@ import numpy as np  # noqa: E402
 from matplotlib import animation  # noqa: E402
 from matplotlib.collections import EllipseCollection  # noqa: E402
 
-from . import io, plots  # noqa: E402
+from . import files, io, plots  # noqa: E402
 
 COLOURINGS = ("speed", "species", "spin", "plain")
 SPEED_MAX = 2.5  # top of the colour scale, in rms speeds
@@ -250,12 +250,12 @@ def movie(source, replica: Optional[int] = None, output=None, fps: float = 5.0,
     anim = animation.FuncAnimation(fig, update, frames=len(frames), blit=False)
     written = []
     for o in outputs:
-        o.parent.mkdir(parents=True, exist_ok=True)
-        tmp = o.with_name(o.stem + ".part" + o.suffix)
+        files.ensure_dir(o.parent)
         writer = (animation.PillowWriter(fps=fps) if o.suffix == ".gif"
                   else animation.FFMpegWriter(fps=fps, codec="libx264", extra_args=["-pix_fmt", "yuv420p"]))
-        anim.save(tmp, writer=writer, dpi=dpi)
-        tmp.replace(o)
+        # A fresh temporary name, renamed over o: a planted link at either name is never written through.
+        with files.replacing(o) as tmp:
+            anim.save(tmp, writer=writer, dpi=dpi)
         written.append(o)
     plt.close(fig)
     return written

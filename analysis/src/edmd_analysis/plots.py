@@ -245,7 +245,7 @@ def _pie(ax, x, y, fractions, classes, size):
 def phase_diagram(ax, rows: Sequence[dict], x: str = "l_over_l_perp", size: float = 120.0,
                   y: str = "eps"):
     """The phase diagram from the phase table (``edmd summarize --format json``): ``y`` ('eps',
-    'beta' or 'species') against ``x`` ('l_over_l_perp', 'phi', 'n' or 'box_side'), each point a pie
+    'beta' or 'species') against ``x`` ('l_over_l_perp', 'phi', 'n', 'box_side' or 'shear_rate'), each point a pie
     of its class fractions, with the theory boundaries L = L_perp and L = L_par drawn when x is
     L/L_perp and y is eps. Rows without class fractions (not_applicable scenes) are left out. A
     sheared sweep's rows carry the classes homogeneous and inhomogeneous instead (no theory lines)."""
@@ -258,6 +258,8 @@ def phase_diagram(ax, rows: Sequence[dict], x: str = "l_over_l_perp", size: floa
     def y_of(row):
         return labels.index(str(row[y])) if labels is not None else row[y]
 
+    if x == "shear_rate":
+        rows = [dict(r, shear_rate=r.get("shear_rate", 0.0)) for r in rows]
     for row in rows:
         fractions = np.array([row.get(c) or 0.0 for c in classes])
         if not np.isfinite(fractions).all() or fractions.sum() == 0:
@@ -278,9 +280,11 @@ def phase_diagram(ax, rows: Sequence[dict], x: str = "l_over_l_perp", size: floa
         ax.set_ylim(-0.5, len(labels) - 0.5)
     for c in classes:
         ax.scatter([], [], c=CLASS_COLOURS[c], label=c)
-    if x in ("box_side", "n") and rows and max(r[x] for r in rows) > 4 * min(r[x] for r in rows):
+    if x in ("box_side", "n", "shear_rate") and rows and min(r[x] for r in rows) > 0 \
+            and max(r[x] for r in rows) > 4 * min(r[x] for r in rows):
         ax.set_xscale("log")
-    ax.set_xlabel({"l_over_l_perp": "L / L_perp", "phi": "phi", "n": "N", "box_side": "L"}.get(x, x))
+    ax.set_xlabel({"l_over_l_perp": "L / L_perp", "phi": "phi", "n": "N", "box_side": "L",
+                   "shear_rate": "shear rate a"}.get(x, x))
     ax.set_ylabel(y)
     ax.legend(frameon=False, fontsize="small")
     return ax

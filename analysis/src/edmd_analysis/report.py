@@ -16,11 +16,13 @@ figure keeps its aspect and carries a line saying what it shows.
 from __future__ import annotations
 
 import html
+import io as io_bytes
 import json
 import multiprocessing
 import os
 import re
 import shutil
+import signal
 import sys
 from pathlib import Path
 from typing import Optional
@@ -31,11 +33,11 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from . import io, movie, plots  # noqa: E402
+from . import files, io, movie, plots  # noqa: E402
 
 # The index columns that tell grid points apart (the seed aside).
 POINT_COLUMNS = ("dim", "boundary", "remedy", "n", "phi", "box_side", "eps", "beta", "species",
-                 "gravity", "wall_eps", "floor_temperature", "aspect")
+                 "gravity", "shear_rate", "wall_eps", "floor_temperature", "aspect")
 
 
 def _first_seed_per_point(index: io.Index, max_points: int):
@@ -57,6 +59,8 @@ def _title(index: io.Index, i: int) -> str:
         extra += f" beta={index['beta'][i]:g}"
     if "species" in col and index["species"][i]:
         extra += f" species={index['species'][i]}"
+    if "shear_rate" in col and index["boundary"][i] == "lees-edwards":
+        extra += f" a={index['shear_rate'][i]:g}"
     if "gravity" in col and index["gravity"][i] > 0:
         extra += f" g={index['gravity'][i]:g}"
     if "floor_temperature" in col and index["floor_temperature"][i] > 0:
@@ -78,14 +82,18 @@ def _panels(count: int, width: float = 4.0, height: float = 3.4):
 def _save(fig, dest: Path, name: str, saved: list):
     fig.tight_layout()
     path = dest / f"{name}.png"
-    fig.savefig(path, dpi=80)
+    buffer = io_bytes.BytesIO()
+    fig.savefig(buffer, dpi=80, format="png")
     plt.close(fig)
+    files.write_bytes(path, buffer.getvalue())
     saved.append(path.name)
 
 
 def _x_axis(rows):
     """The phase diagram's abscissa: the grid axis that varies (L/L_perp for box scans)."""
     sheared = any(r.get("homogeneous") is not None for r in rows)
+    if sheared and len({r.get("shear_rate", 0.0) for r in rows}) > 1:
+        return "shear_rate"
     for key, x in (("box_side", "box_side" if sheared else "l_over_l_perp"), ("phi", "phi"), ("n", "n")):
         if len({r[key] for r in rows}) > 1:
             return x
@@ -285,6 +293,11 @@ def _run(task):
     return draw(*args)
 
 
+def _ignore_interrupts():
+    """In a worker: Ctrl-C is the parent's to handle (one line, not a traceback per worker)."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
 def _render(tasks, jobs: int):
     """Runs the figure tasks, ``jobs`` at a time in worker processes (each figure is independent
     and matplotlib is single-threaded); returns the files written, in the tasks' order."""
@@ -294,7 +307,7 @@ def _render(tasks, jobs: int):
     # fork shares the imported matplotlib with the workers (spawn re-imports it, ~2 s each);
     # macOS forbids fork after its GUI frameworks load, so it spawns.
     method = "fork" if sys.platform.startswith("linux") else "spawn"
-    with multiprocessing.get_context(method).Pool(jobs) as pool:
+    with multiprocessing.get_context(method).Pool(jobs, initializer=_ignore_interrupts) as pool:
         # The longest tasks (the movies) first, one task per dispatch, results in task order.
         order = sorted(range(len(tasks)), key=lambda k: tasks[k][0] is not _movie_figure)
         done = pool.map(_run, [tasks[k] for k in order], chunksize=1)
@@ -314,9 +327,9 @@ def report(out, dest, max_points: int = 24, movies: bool = True, jobs: Optional[
     if jobs is not None and jobs < 1:
         raise ValueError(f"--jobs {jobs}: must be at least 1")
     index = io.read_index(out)
-    created = not dest.exists()
+    created = not os.path.lexists(dest)
+    files.ensure_dir(dest)
     try:
-        dest.mkdir(parents=True, exist_ok=True)
         return _write_report(out, dest, index, max_points, movies, jobs or os.cpu_count() or 1)
     except BaseException:
         # A report that failed leaves no empty or half-written directory of its own making.
@@ -328,7 +341,14 @@ def report(out, dest, max_points: int = 24, movies: bool = True, jobs: Optional[
 def _write_report(out: Path, dest: Path, index, max_points: int, movies: bool, jobs: int) -> Path:
     """The body of :func:`report`, into the existing directory ``dest``."""
     phase_path = out / "phase.json"
-    rows = json.loads(phase_path.read_text()) if phase_path.exists() else []
+    rows = io.read_json(phase_path) if phase_path.exists() else []
+    if not isinstance(rows, list) or not all(isinstance(r, dict) for r in rows):
+        raise ValueError(f"{phase_path}: not a phase table (a list of rows expected)")
+    for i in range(len(index)):
+        if index["status"][i] == "corrupt":
+            message = index["message"][i] if "message" in index.columns else ""
+            print(f"warning: {index.replica_path(i)}: left out of the figures: {message}",
+                  file=sys.stderr)
     chosen = _first_seed_per_point(index, max_points)
     paths = [index.replica_path(i) for i in chosen]
     titles = [_title(index, i) for i in chosen]
@@ -374,7 +394,7 @@ def _write_report(out: Path, dest: Path, index, max_points: int, movies: bool, j
         tasks += _movie_tasks(index, dest)
     saved = _render(tasks, jobs)
     page = dest / "index.html"
-    page.write_text(_html(index, rows, saved))
+    files.write_bytes(page, _html(index, rows, saved).encode())
     return page
 
 

@@ -34,6 +34,9 @@ pub struct PointRow {
     /// Gravity, wall restitution, thermal floor and box aspect where they differ from the defaults
     /// (`g=0.1 wall_eps=0.9 floor_T=2 aspect=2x1`; empty for a free square or cubic box).
     pub scene: String,
+    /// Sheared boxes: the shear rate a (absent elsewhere; the scene label carries it as `a=`).
+    #[serde(skip_serializing_if = "is_zero")]
+    pub shear_rate: f64,
     /// Seeds in the spec.
     pub seeds: usize,
     /// Seeds finished normally.
@@ -161,6 +164,7 @@ pub fn phase_table(spec: &Spec, records: &[Record]) -> Vec<PointRow> {
                 beta: first.beta,
                 species: first.species.clone(),
                 scene: scene_label(first),
+                shear_rate: first.shear_rate,
                 seeds: g.len(),
                 done: count(Status::Done),
                 collapsed: count(Status::Collapsed),
@@ -381,6 +385,10 @@ pub fn render(rows: &[PointRow], format: Format) -> String {
 }
 
 /// `skip_serializing_if` for the fractions a row does not have.
+fn is_zero(x: &f64) -> bool {
+    *x == 0.0
+}
+
 fn is_nan(x: &f64) -> bool {
     x.is_nan()
 }
