@@ -342,3 +342,20 @@ fn columns_far_thinner_than_a_grain_end_at_once() {
     );
     assert!(!stderr.contains("error"), "{stderr}");
 }
+
+/// Mixtures at exactly the documented limit of random placement, φ = 0.4 in 2D and 0.25 in 3D,
+/// run: their φ, counted from whole grains, can lie a hair above the limit, which chose a lattice
+/// start that a mixture cannot have ("invalid placement = lattice", hardening round 3).
+#[test]
+fn mixtures_at_the_random_placement_limit_run() {
+    let tmp = tempfile::tempdir().unwrap();
+    for (dim, phi) in [(2, 0.4), (3, 0.25)] {
+        let spec = format!(
+            r#"{{"name": "mix{dim}", "grid": {{"dim": {dim}, "eps": 0.9, "phi": {phi}, "n": 200,
+                "species": [{{"fraction": 0.5, "diameter": 1, "mass": 1}},
+                            {{"fraction": 0.5, "diameter": 2, "mass": 4}}]}},
+                "stop": {{"tau_max": 2}}}}"#
+        );
+        run_spec(tmp.path(), &format!("mix{dim}"), &spec);
+    }
+}

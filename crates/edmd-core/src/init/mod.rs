@@ -30,7 +30,7 @@ pub enum Placement {
     Random,
     /// A centred lattice (2D up to φ ≈ 0.9, 3D up to ≈ 0.68), then melted elastically.
     Lattice,
-    /// Random below φ = 0.4 (2D) or 0.25 (3D), lattice above.
+    /// Random below φ = 0.4 (2D) or 0.25 (3D), lattice above (mixtures: always random).
     Auto,
 }
 
@@ -207,6 +207,18 @@ impl<const D: usize> InitParams<D> {
         Ok(())
     }
 
+    /// Whether the start is a lattice: asked for, or (automatic placement) equal grains denser
+    /// than random placement reaches, φ > 0.4 (2D) or 0.25 (3D). A mixture is placed at random
+    /// (a lattice needs equal radii; its φ, counted from whole grains, can lie a hair above the
+    /// limit it was asked at).
+    fn on_lattice(&self, phi: f64) -> bool {
+        match self.placement {
+            Placement::Random => false,
+            Placement::Lattice => true,
+            Placement::Auto => self.radii.is_none() && phi > if D == 2 { 0.4 } else { 0.25 },
+        }
+    }
+
     /// The checks of [`Self::build`] that need no simulation, in a fraction of its time: the
     /// parameters, a lattice start's reach (the lattice is laid out, with no melt) and the cell
     /// grid of the box. A start that passes can still fail only in random placement (too dense for
@@ -214,11 +226,7 @@ impl<const D: usize> InitParams<D> {
     pub fn preflight<B: Boundary>(&self) -> Result<(), EdmdError> {
         self.validate()?;
         let phi = self.packing_fraction();
-        let lattice = match self.placement {
-            Placement::Random => false,
-            Placement::Lattice => true,
-            Placement::Auto => phi > if D == 2 { 0.4 } else { 0.25 },
-        };
+        let lattice = self.on_lattice(phi);
         if lattice {
             if self.radii.is_some() {
                 return Err(EdmdError::invalid(
@@ -272,11 +280,7 @@ impl<const D: usize> InitParams<D> {
             .clone()
             .unwrap_or_else(|| vec![self.radius; self.n]);
         let phi = self.packing_fraction();
-        let lattice = match self.placement {
-            Placement::Random => false,
-            Placement::Lattice => true,
-            Placement::Auto => phi > if D == 2 { 0.4 } else { 0.25 },
-        };
+        let lattice = self.on_lattice(phi);
         let positions = if lattice {
             if self.radii.is_some() {
                 return Err(EdmdError::invalid(
@@ -296,7 +300,17 @@ impl<const D: usize> InitParams<D> {
                 .map(|&r| self.mass * (r / self.radius).powi(D as i32))
                 .collect(),
         };
-        let velocities = draw_velocities::<D>(&masses, self.velocities, self.temperature, &mut rng);
+        let mut velocities =
+            draw_velocities::<D>(&masses, self.velocities, self.temperature, &mut rng);
+        let params = self.sim.unwrap_or_else(|| self.default_sim_params());
+        if B::SHEARED {
+            // Start in the uniform shear flow u_x = a (y − L_y/2): the drawn velocities are the
+            // peculiar ones, at T0.
+            let middle = 0.5 * self.box_len[1];
+            for (v, x) in velocities.iter_mut().zip(&positions) {
+                v[0] += params.shear_rate * (x[1] - middle);
+            }
+        }
         let particles: Vec<ParticleInit<D>> = (positions.into_iter().zip(velocities))
             .zip(radii.into_iter().zip(masses))
             .map(|((pos, vel), (radius, mass))| ParticleInit {
@@ -306,7 +320,6 @@ impl<const D: usize> InitParams<D> {
                 mass,
             })
             .collect();
-        let params = self.sim.unwrap_or_else(|| self.default_sim_params());
         let melt = self.melt_tau.unwrap_or(if lattice { 20.0 } else { 0.0 });
         let sim = if melt > 0.0 {
             let mut sim =

@@ -73,7 +73,8 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         }
     }
 
-    /// Scales every velocity by `factor` and predicts all events again (e.g. to set a temperature).
+    /// Scales every velocity (in a sheared scene, every peculiar velocity) by `factor` and predicts
+    /// all events again (e.g. to set a temperature).
     pub fn scale_velocities(&mut self, factor: f64) {
         self.scale_motion(factor);
         self.restart_events();
@@ -83,8 +84,19 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     /// stale (the caller predicts them again).
     fn scale_motion(&mut self, factor: f64) {
         self.rebase_clock();
-        for p in &mut self.particles {
-            p.vel *= factor;
+        if B::SHEARED {
+            // Only the peculiar part: the flow a (y − L_y/2) is the boundary's, not the gas's heat.
+            let (rate, middle) = (self.params.shear_rate, self.half_box[1]);
+            for p in &mut self.particles {
+                let flow = rate * (p.r0[1] - middle);
+                p.vel[0] -= flow;
+                p.vel *= factor;
+                p.vel[0] += flow;
+            }
+        } else {
+            for p in &mut self.particles {
+                p.vel *= factor;
+            }
         }
         self.scale_spins(factor);
         self.invalidate_events();

@@ -14,7 +14,8 @@ pub(super) fn within(field: &str, value: f64, domain: &Domain) -> Result<(), Swe
         Ok(())
     } else {
         Err(SweepError::Spec(format!(
-            "{field} = {value}: {}",
+            "{field} = {}: {}",
+            super::expand::compact(value),
             domain.reason
         )))
     }

@@ -223,10 +223,18 @@ impl fmt::Display for Replica {
 
 /// `2x1` (the relative sides joined by `x`).
 pub fn aspect_label(a: &[f64]) -> String {
-    a.iter()
-        .map(|x| x.to_string())
-        .collect::<Vec<_>>()
-        .join("x")
+    a.iter().map(|&x| compact(x)).collect::<Vec<_>>().join("x")
+}
+
+/// `x` as Rust writes it where that is short (`0.25`, `1000`), else in exponent form (`1e-7`,
+/// `1e300`): a message never carries a 300-digit decimal.
+pub fn compact(x: f64) -> String {
+    let plain = x.to_string();
+    if plain.len() <= 12 {
+        plain
+    } else {
+        format!("{x:e}")
+    }
 }
 
 /// Volume of a particle of diameter 1 in `d` dimensions.
