@@ -14,6 +14,8 @@
 #                  equals a local run; a cancelled task is finished by rerunning the submit command; a
 #                  refinement in sharded rounds (sweeps/slurm/refine.sh) equals the unsharded one
 #   make stress    stress tests at full size (numerical stability; CI runs short versions)
+#   make disk-full a disk that fills during run, rerun, merge, refine and report, at every free size
+#                  0-64 KiB: never an unreadable file under a final name, resume identical (root)
 #   make validate  long equilibrium-accuracy runs (chi against Luding / Carnahan-Starling)
 #   make deps      system packages (libhdf5-dev, hdf5-tools) and the Python venv for analysis/
 #                  (MEDIA=1: also ffmpeg and headless Chromium for MP4 movies and the page test);
@@ -43,7 +45,7 @@ export PATH := $(PATH):$(CURDIR)/$(VENV)/bin
 endif
 PREFIX ?= $(HOME)/.local
 
-.PHONY: install test-portable bench-instructions bench-bin all deps deps-system venv venv-base release-bin build run figures demo cli check test test-rust test-bin test-python lint lint-rust lint-python bench bench-smoke bench-nightly bench-accuracy stress test-slurm run-rust-tests run-python-tests run-slurm-tests validate clean
+.PHONY: disk-full install test-portable bench-instructions bench-bin all deps deps-system venv venv-base release-bin build run figures demo cli check test test-rust test-bin test-python lint lint-rust lint-python bench bench-smoke bench-nightly bench-accuracy stress test-slurm run-rust-tests run-python-tests run-slurm-tests validate clean
 
 all: build
 
@@ -197,6 +199,9 @@ endif
 # cases); `cargo test` runs short versions. Figures: docs/benchmarks.md.
 stress:
 	$(CARGO) test -p edmd-core --test engine -- --ignored --nocapture --test-threads 1 stress:: fuzz:: deep_cooling::large
+
+disk-full: release-bin venv
+	$(VENV)/bin/python scripts/disk-full.py --edmd target/release/edmd
 
 # The nightly matrix (D, N, phi, eps): appends to benches/history.jsonl, prints a table and flags
 # cases > 10 % slower than the previous entry on this machine (exit 1); then, where the peer codes are
