@@ -81,17 +81,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             R::set_spin(sj, (wj + dwj).into());
         }
         if R::ROTATES && self.rule.rotates() {
-            let theta = self.rule.rotation_angle(&mut self.rng);
-            if B::SHEARED {
-                // Rotate the relative velocity of i's image, the one the pair has across a sliding
-                // face; the lab-frame difference carries the faces' relative speed ±a L_y.
-                let slide = vi_img - pi.vel;
-                let (wi, wj) =
-                    rotate_relative(vi + slide, vj, mi, mj, &normal, theta, &mut self.rng);
-                (vi, vj) = (wi - slide, wj);
-            } else {
-                (vi, vj) = rotate_relative(vi, vj, mi, mj, &normal, theta, &mut self.rng);
-            }
+            (vi, vj) = self.rotate_pair(vi, vj, vi_img - pi.vel, (mi, mj), &normal);
         }
         self.particles[i].vel = vi;
         self.particles[i].r0 = pos_i - vi * now;
@@ -116,6 +106,27 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             self.counters.dissipated += spin_loss
                 + 0.5 * mi * (vi_img.norm_squared() - vi_after.norm_squared())
                 + 0.5 * mj * (pj.vel.norm_squared() - vj.norm_squared());
+        }
+    }
+
+    /// The remedy's random rotation of the pair's new velocities `vi`, `vj`, taken in the frame of
+    /// i's image: `slide` is how much faster i's image moves than i (±a L_y across a sliding face,
+    /// where the lab-frame difference is not the pair's relative velocity; 0 elsewhere).
+    #[inline]
+    fn rotate_pair(
+        &mut self,
+        vi: Vector<D>,
+        vj: Vector<D>,
+        slide: Vector<D>,
+        (mi, mj): (f64, f64),
+        normal: &Vector<D>,
+    ) -> (Vector<D>, Vector<D>) {
+        let theta = self.rule.rotation_angle(&mut self.rng);
+        if B::SHEARED {
+            let (wi, wj) = rotate_relative(vi + slide, vj, mi, mj, normal, theta, &mut self.rng);
+            (wi - slide, wj)
+        } else {
+            rotate_relative(vi, vj, mi, mj, normal, theta, &mut self.rng)
         }
     }
 
