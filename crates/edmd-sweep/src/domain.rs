@@ -293,6 +293,7 @@ schema_fns! {
     phi_axis => PHI.optional_axis,
     box_axis => BOX.optional_axis,
     n_axis => N.optional_axis,
+    aspect_axis => ASPECT.optional_list_axis,
     seeds_one => SEEDS.one,
     tc_one => TC.one,
     theta_one => THETA_MAX_DEG.one,
@@ -313,6 +314,16 @@ schema_fns! {
 }
 
 impl Domain {
+    /// An absent or `null` list of values, or a non-empty list of such lists (an optional grid
+    /// axis whose values are lists: the box's aspect).
+    pub fn optional_list_axis(&self) -> Schema {
+        let one = self.value();
+        let list = json!({ "type": "array", "items": one, "minItems": 1 });
+        json_schema!({
+            "anyOf": [list, { "type": "array", "items": list, "minItems": 1 }, { "type": "null" }]
+        })
+    }
+
     /// An absent, `null`, single or listed value (an optional grid axis).
     pub fn optional_axis(&self) -> Schema {
         let one = self.value();

@@ -300,17 +300,10 @@ impl<const D: usize> InitParams<D> {
                 .map(|&r| self.mass * (r / self.radius).powi(D as i32))
                 .collect(),
         };
-        let mut velocities =
-            draw_velocities::<D>(&masses, self.velocities, self.temperature, &mut rng);
+        // A sheared box starts at rest in the lab (PHYSICS.md §7): the flow builds up from the
+        // sliding faces, so the peculiar T(0) is T0 + a² L_y²/(12 d).
+        let velocities = draw_velocities::<D>(&masses, self.velocities, self.temperature, &mut rng);
         let params = self.sim.unwrap_or_else(|| self.default_sim_params());
-        if B::SHEARED {
-            // Start in the uniform shear flow u_x = a (y − L_y/2): the drawn velocities are the
-            // peculiar ones, at T0.
-            let middle = 0.5 * self.box_len[1];
-            for (v, x) in velocities.iter_mut().zip(&positions) {
-                v[0] += params.shear_rate * (x[1] - middle);
-            }
-        }
         let particles: Vec<ParticleInit<D>> = (positions.into_iter().zip(velocities))
             .zip(radii.into_iter().zip(masses))
             .map(|((pos, vel), (radius, mass))| ParticleInit {

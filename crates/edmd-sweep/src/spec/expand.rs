@@ -226,12 +226,11 @@ pub fn aspect_label(a: &[f64]) -> String {
     a.iter().map(|&x| compact(x)).collect::<Vec<_>>().join("x")
 }
 
-/// `x` as Rust writes it where that is short (`0.25`, `1000`), else in exponent form (`1e-7`,
-/// `1e300`): a message never carries a 300-digit decimal.
+/// `x` as Rust writes it (`0.25`, `1000`, `1.6666666666666667`) where that needs no run of zeros,
+/// else in exponent form (`1e-7`, `1e300`): a message never carries a 300-digit decimal.
 pub fn compact(x: f64) -> String {
-    let plain = x.to_string();
-    if plain.len() <= 12 {
-        plain
+    if x == 0.0 || (1e-5..1e16).contains(&x.abs()) || !x.is_finite() {
+        x.to_string()
     } else {
         format!("{x:e}")
     }

@@ -274,6 +274,7 @@ pub struct Grid {
     /// Relative box sides: D positive numbers (default all 1), or a list of such lists (an axis).
     /// Side a is `box`·aspect[a]; with `phi` the box holds N grains at φ.
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(schema_with = "domain::aspect_axis")]
     pub aspect: Option<AspectAxis>,
     /// Gravity g ≥ 0 along −y (2D) or −z (3D), towards the floor at 0 (default 0); needs walls on
     /// that axis (`"walls"` or `"channel"`).
