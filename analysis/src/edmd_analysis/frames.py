@@ -14,6 +14,8 @@ from pathlib import Path
 
 import numpy as np
 
+from .jsonfiles import read_boundary, read_json
+
 # The index's columns in the order of summary.csv (`Record` in crates/edmd-sweep/src/record.rs).
 INDEX_COLUMNS = (
     "index", "file", "status", "message", "dim", "boundary", "eps", "beta", "species", "gravity",
@@ -81,7 +83,7 @@ def read_phase_table(out):
             f"{path}: no phase table (`edmd run` writes it at the end; for a merged or older "
             f"sweep: edmd summarize {path.parent} --format json > {path})"
         )
-    rows = json.loads(path.read_text())
+    rows = read_json(path)
     if not isinstance(rows, list):
         raise ValueError(f"{path}: not a phase table (a JSON list of rows expected)")
     keys = list(PHASE_COLUMNS)
@@ -109,8 +111,6 @@ def read_boundary_frame(out):
     upper end), ``lower``, ``upper``, ``at``, ``half_width``, then the fields fixed along the line
     (``dim``, ``boundary``, ``eps``, ``phi``, ``box``, ``n``, ... where the grid gives them; NaN where
     not)."""
-    from .io import read_boundary
-
     pd = pandas()
     crossings = read_boundary(out)["crossings"]
     fixed = sorted({k for c in crossings for k in c["line"]})

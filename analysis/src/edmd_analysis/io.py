@@ -15,6 +15,8 @@ from typing import Dict
 import h5py
 import numpy as np
 
+from .jsonfiles import read_boundary, read_json  # noqa: F401 (part of this module's API)
+
 SCHEMA_VERSION = 1
 
 
@@ -116,32 +118,6 @@ def read_index(out) -> Index:
     if spec_hash is not None:
         _mark_foreign(index, spec_hash)
     return index
-
-
-def read_boundary(out) -> dict:
-    """OUT/boundary.json of a refined sweep (``edmd refine``; docs/output.md): the axes, rounds and
-    replica counts, and ``crossings``, each regime change along a line of the grid with its
-    bracketing pair (``lower``, ``upper``), estimate ``at`` and ``half_width``."""
-    path = Path(out)
-    if path.is_dir():
-        path = path / "boundary.json"
-    if not path.exists():
-        raise FileNotFoundError(f"{path}: no boundary (written by `edmd refine {path.parent}`)")
-    data = read_json(path)
-    if not isinstance(data, dict) or not {"crossings", "axes"} <= data.keys():
-        raise ValueError(f"{path}: not a boundary file (an object with 'axes' and 'crossings' "
-                         "expected); rerun `edmd refine` to write it again")
-    return data
-
-
-def read_json(path) -> object:
-    """A JSON file edmd wrote (phase.json, boundary.json), with errors that name it."""
-    path = Path(path)
-    try:
-        return json.loads(path.read_text())
-    except (json.JSONDecodeError, UnicodeDecodeError) as e:
-        raise ValueError(f"{path}: not valid JSON ({e}); rerun `edmd run` (or `edmd summarize`) "
-                         "with the same spec and -o to write it again") from e
 
 
 # The statuses of replicas that have a file (edmd's `Status::has_file`).

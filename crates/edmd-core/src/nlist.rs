@@ -59,6 +59,20 @@ pub(crate) struct NeighbourLists<const D: usize> {
     pub hint_partners: bool,
 }
 
+/// Whether this processor runs the four-wide scan, for `n` particles: AVX2, and every particle's
+/// last coordinate addressable by a gather's 32-bit index (over 2.6 · 10⁸ particles in 3D).
+pub(crate) fn wide_scan_available<const D: usize>(n: usize) -> bool {
+    let words = std::mem::size_of::<crate::Particle<D>>() / 8;
+    let fits = n.checked_mul(words).is_some_and(|w| w < i32::MAX as usize);
+    #[cfg(target_arch = "x86_64")]
+    return fits && std::arch::is_x86_feature_detected!("avx2");
+    #[cfg(not(target_arch = "x86_64"))]
+    return {
+        let _ = fits;
+        false
+    };
+}
+
 impl<const D: usize> NeighbourLists<D> {
     /// Empty lists for `n` particles with skin `skin` and largest diameter `max_d`.
     pub fn new(n: usize, skin: f64, max_d: f64) -> Self {
@@ -77,7 +91,7 @@ impl<const D: usize> NeighbourLists<D> {
             links: vec![NONE; n],
             stamp: 0,
             same_radius: false,
-            wide: crate::sim::wide_scan_available::<D>(n),
+            wide: wide_scan_available::<D>(n),
             hint_partners: n * std::mem::size_of::<crate::Particle<D>>()
                 > crate::caches::partner_hints_threshold(),
         }

@@ -3,6 +3,7 @@
 use nalgebra::Vector3;
 use rand_xoshiro::Xoshiro256PlusPlus;
 
+use super::space::image_near;
 use super::Simulation;
 use crate::calendar::Calendar;
 use crate::predict::approaching;
@@ -190,28 +191,6 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     pub(super) fn image_near(&self, x: &Vector<D>, y: &Vector<D>) -> Vector<D> {
         image_near::<D, B>(&self.box_len, &self.half_box, x, y)
     }
-}
-
-/// The image of `x` nearest to `y` across the periodic faces of a box of sides `box_len`.
-#[inline(always)]
-pub(super) fn image_near<const D: usize, B: Boundary>(
-    box_len: &Vector<D>,
-    half_box: &Vector<D>,
-    x: &Vector<D>,
-    y: &Vector<D>,
-) -> Vector<D> {
-    let mut r = *x;
-    for a in 0..D {
-        if !B::is_wall(a) {
-            let d = x[a] - y[a];
-            if d > half_box[a] {
-                r[a] -= box_len[a];
-            } else if d < -half_box[a] {
-                r[a] += box_len[a];
-            }
-        }
-    }
-    r
 }
 
 /// A D-vector as a 3-vector (z = 0 in 2D).

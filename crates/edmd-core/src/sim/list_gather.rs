@@ -1,24 +1,12 @@
 //! List mode's search around a shell centre: the particles whose centres lie within reach, found
 //! in the cells around it (list builds and renewals, `sim/lists.rs`).
 
-use std::marker::PhantomData;
-
-use super::contact::image_near;
-use super::lists::centre_far_from_periodic_faces;
+use super::space::{centre_far_from_periodic_faces, image_near, Space};
 #[cfg(target_arch = "x86_64")]
 use super::wide_scan::within_reach_wide;
-use crate::cells::{CellGrid, NONE};
+use crate::cells::NONE;
 use crate::nlist::NeighbourLists;
-use crate::{Boundary, Particle, Vector};
-
-/// What [`NeighbourLists::gather`] reads of the simulation.
-pub(super) struct Space<'a, const D: usize, B> {
-    pub(super) particles: &'a [Particle<D>],
-    pub(super) grid: &'a CellGrid<D>,
-    pub(super) box_len: &'a Vector<D>,
-    pub(super) half_box: &'a Vector<D>,
-    pub(super) _boundary: PhantomData<B>,
-}
+use crate::Boundary;
 
 impl<const D: usize> NeighbourLists<D> {
     /// Hands `found` every particle whose shell centre lies within `σ + δ` of slot `i`'s, found in

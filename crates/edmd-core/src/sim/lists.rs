@@ -3,8 +3,8 @@
 
 use std::marker::PhantomData;
 
-use super::list_gather::Space;
 use super::shear_lists::{wrapped_now_sheared, ShearWindow};
+use super::space::{centre_far_from_periodic_faces, rootless_test, smaller, Space};
 use super::{Lists, Meta, Simulation};
 use crate::calendar::Calendar;
 use crate::cells::CellGrid;
@@ -14,28 +14,6 @@ use crate::{Boundary, CollisionRule, Particle, Vector};
 
 /// Partners per group of the list scan's cheap test (two SSE2 registers of `f64`).
 const LANES: usize = 2;
-
-/// The smaller of two times that are never NaN (a scan's bounds: differences of event times and
-/// now): `f64::min` without its NaN handling, three instructions less on x86-64 for the same value
-/// (for equal arguments either is the same number; a scan's bounds are never −0).
-#[inline(always)]
-pub(super) fn smaller(a: f64, b: f64) -> f64 {
-    if b < a {
-        b
-    } else {
-        a
-    }
-}
-
-/// Whether a pair with `b = r·v` and `room = σ² − |r|²` may touch within `limit` (≥ 0) of now: a
-/// contact at t ≤ limit needs b < 0 and σ² − r² = 2bt + v²t² ≥ 2b·limit. A test without the root
-/// that rejects most partners, with a margin for round-off so that it never rejects one the root
-/// keeps (the bound is ≤ 0 wherever b < 0, so the margin widens it by a factor).
-#[inline(always)]
-pub(super) fn rootless_test(b: f64, room: f64, limit: f64) -> bool {
-    let bound = 2.0 * b * limit;
-    (b < 0.0) & (room >= bound * (1.0 + 1e-9))
-}
 
 impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B, R, C> {
     /// Neighbour-list mode: draws every shell around the particle's current position, files each
@@ -408,20 +386,4 @@ fn wrapped_now<const D: usize, B: Boundary>(
         }
     }
     pos
-}
-
-/// Whether `c` lies farther than `margin` from every periodic face and `span` (≥ `margin`) is
-/// below half the box: then every point within `margin` of it is its own nearest image, and so
-/// is every separation up to `span` between points on the same side of the faces.
-#[inline(always)]
-pub(super) fn centre_far_from_periodic_faces<const D: usize, B: Boundary>(
-    box_len: &Vector<D>,
-    half_box: &Vector<D>,
-    c: &Vector<D>,
-    margin: f64,
-    span: f64,
-) -> bool {
-    (0..D).all(|a| {
-        B::is_wall(a) || (span < half_box[a] && c[a] > margin && c[a] < box_len[a] - margin)
-    })
 }

@@ -42,6 +42,7 @@ mod query;
 mod run;
 mod shear;
 mod shear_lists;
+mod space;
 mod upkeep;
 mod wide_scan;
 
@@ -52,7 +53,6 @@ pub use engine::Engine;
 pub use event::EventKind;
 pub use params::SimParams;
 pub use run::{RunEnd, Stop};
-pub(crate) use wide_scan::wide_scan_available;
 
 /// A particle's next event other than a collision, as the slot stores it: decoded once, where it
 /// is predicted, and matched once, where it is handled.

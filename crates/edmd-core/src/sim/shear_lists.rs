@@ -8,8 +8,8 @@
 //! columns of `sim/shear.rs`, keeping an image that comes within reach for any Δ up to the next
 //! shift; at the shift every such list is gathered again (`Simulation::shear_shift`).
 
-use super::list_gather::Space;
 use super::shear::sliding_row;
+use super::space::Space;
 use super::Simulation;
 use crate::calendar::Calendar;
 use crate::cells::NONE;

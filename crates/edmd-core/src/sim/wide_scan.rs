@@ -1,5 +1,5 @@
 //! The list scan's cheap test four partners at a time, on x86-64 processors with AVX2 (chosen at
-//! run time: [`wide_scan_available`]).
+//! run time: [`crate::nlist::wide_scan_available`]).
 //!
 //! [`Simulation::scan_list`] tests partners two at a time in SSE2 registers, which the x86-64
 //! baseline guarantees; gathering each pair's seven numbers into lanes and unpacking them costs more
@@ -17,28 +17,13 @@
 #[cfg(target_arch = "x86_64")]
 use std::arch::x86_64::*;
 
-use super::list_gather::Space;
-use super::lists::{rootless_test, smaller};
+use super::space::{rootless_test, smaller, Space};
 use super::Simulation;
 use crate::calendar::Calendar;
 use crate::nlist::NeighbourLists;
 use crate::predict::APPROACH_TOLERANCE;
 use crate::state::Particle;
 use crate::{Boundary, CollisionRule};
-
-/// Whether this processor runs the four-wide scan, for `n` particles: AVX2, and every particle's
-/// last coordinate addressable by a gather's 32-bit index (over 2.6 · 10⁸ particles in 3D).
-pub(crate) fn wide_scan_available<const D: usize>(n: usize) -> bool {
-    let words = std::mem::size_of::<Particle<D>>() / 8;
-    let fits = n.checked_mul(words).is_some_and(|w| w < i32::MAX as usize);
-    #[cfg(target_arch = "x86_64")]
-    return fits && std::arch::is_x86_feature_detected!("avx2");
-    #[cfg(not(target_arch = "x86_64"))]
-    return {
-        let _ = fits;
-        false
-    };
-}
 
 #[cfg(target_arch = "x86_64")]
 impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B, R, C> {
@@ -47,7 +32,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     ///
     /// # Safety
     /// The processor must support AVX2, and `n` times the particle record's length in `f64` words
-    /// must fit an `i32` ([`wide_scan_available`]).
+    /// must fit an `i32` ([`crate::nlist::wide_scan_available`]).
     #[target_feature(enable = "avx2")]
     #[allow(unsafe_code)]
     pub(super) unsafe fn scan_list_wide<const WRAP: bool, const SHEAR: bool, const SAME: bool>(
