@@ -209,170 +209,196 @@ fn execute(command: Command) -> anyhow::Result<ExitCode> {
             force,
             quiet,
             format,
-        } => {
-            let spec_value = load_spec(spec.as_deref())?;
-            let shard = shard.as_deref().map(Shard::parse).transpose()?;
-            let threads = thread_count(threads)?;
-            // The memory estimate is checked before anything is written.
-            let mine: Vec<_> = spec_value
-                .replicas()
-                .into_iter()
-                .filter(|r| shard.is_none_or(|s| s.contains(r.index)))
-                .collect();
-            check_memory(&spec_value, &mine, threads, MemoryLimit::new(max_memory))
-                .map_err(|e| spec_error(spec.as_deref(), e))?;
-            drop(mine);
-            let root = out.unwrap_or_else(|| Path::new("edmd-out").join(&spec_value.name));
-            let mode = shard.map_or(LockMode::Exclusive, LockMode::Shard);
-            let dir = OutDir::prepare(&root, &spec_value, force, mode)?;
-            let opts = RunOptions {
-                threads: Some(threads),
-                max_memory,
-                shard,
-                force,
-            };
-            let report = run_sweep(&spec_value, &dir, &opts, &Bar::new(quiet))?;
-            say_ran(&spec_value, &report, shard, &root);
-            match &report.records {
-                Some(records) => print!(
-                    "{}",
-                    render(&phase_table(&spec_value, records), format.into())
-                ),
-                None => eprintln!(
-                    "other shards are still missing: once all have run, `edmd merge {}` builds the index",
-                    root.display()
-                ),
-            }
-            Ok(say_problems(&report.problems))
-        }
+        } => run_command(spec, out, threads, max_memory, shard, force, quiet, format),
         Command::Refine(args) => refine::command(args),
-        Command::Status { out } => {
-            let (dir, spec) = OutDir::open(&out)?;
-            let records = dir.records(&spec);
-            let partial = spec
-                .replicas()
-                .iter()
-                .filter(|r| dir.part_path(r).exists())
-                .count();
-            let count = |s: Status| records.iter().filter(|r| r.status == s).count();
-            println!(
-                "{}: {} replicas: {} done, {} collapsed, {} stalled, {} failed, {} corrupt, {} in flight or partial, {} pending",
-                spec.name,
-                records.len(),
-                count(Status::Done),
-                count(Status::Collapsed),
-                count(Status::Stalled),
-                count(Status::Failed),
-                count(Status::Corrupt),
-                partial,
-                count(Status::Missing).saturating_sub(partial)
-            );
-            if let Some(who) = edmd_sweep::lock::running(&out) {
-                // A replica being simulated has no file yet: the pending ones include it.
-                println!("  a run is in progress ({who}): its replicas being simulated now are among the pending");
-            }
-            for r in records.iter().filter(|r| {
-                matches!(
-                    r.status,
-                    Status::Failed | Status::Collapsed | Status::Stalled | Status::Corrupt
-                )
-            }) {
-                println!("  {} r{:05}: {}", r.status, r.index, r.message);
-            }
-            if count(Status::Corrupt) > 0 {
-                println!("  (rerun `edmd run` with the same spec and -o: corrupt files are moved aside and redone)");
-            }
-            Ok(exit_for(&records))
-        }
-        Command::Merge { inputs, out } => {
-            let target = out.unwrap_or_else(|| inputs[0].clone());
-            let report = merge::merge(&inputs, &target)?;
-            for (path, why) in &report.skipped {
-                eprintln!("corrupt: {} ({why}): not copied", path.display());
-            }
-            let records = report.records;
-            let missing: Vec<usize> = records
-                .iter()
-                .filter(|r| !r.status.has_file())
-                .map(|r| r.index)
-                .collect();
-            eprintln!(
-                "merged {} of {} replicas into {}",
-                records.len() - missing.len(),
-                records.len(),
-                target.display()
-            );
-            if missing.is_empty() {
-                Ok(ExitCode::SUCCESS)
-            } else {
-                eprintln!(
-                    "error: {} replica(s) missing (indices {:?}); rerun the shards that hold them, then merge again",
-                    missing.len(),
-                    missing
-                );
-                Ok(ExitCode::from(2))
-            }
-        }
-        Command::Summarize { out, format } => {
-            let (dir, spec) = OutDir::open(&out)?;
-            let records = dir.records(&spec);
-            for r in records.iter().filter(|r| r.status == Status::Corrupt) {
-                eprintln!(
-                    "corrupt: replicas/{} ({}); counted as missing (rerun `edmd run` to redo it)",
-                    r.file, r.message
-                );
-            }
-            print!("{}", render(&phase_table(&spec, &records), format.into()));
-            Ok(ExitCode::SUCCESS)
-        }
+        Command::Status { out } => status_command(out),
+        Command::Merge { inputs, out } => merge_command(inputs, out),
+        Command::Summarize { out, format } => summarize_command(out, format),
         Command::SpecSchema => {
             print!("{}", Spec::json_schema_text());
             Ok(ExitCode::SUCCESS)
         }
-        Command::ValidateSpec { spec, max_memory } => {
-            let s = load_spec(Some(&spec))?;
-            let replicas = s.replicas();
-            // Collisions per particle: the elastic melt (at most 20 by default, for lattice starts)
-            // and the run to tau_max.
-            let melt = s.init.melt_tau.unwrap_or(20.0);
-            let collisions: f64 = replicas
-                .iter()
-                .map(|r| r.n as f64 * (s.stop.tau_max + melt))
-                .sum();
-            // One replica must fit; how many fit at once is checked by `run` with its --threads.
-            let estimate = check_memory(&s, &replicas, 1, MemoryLimit::new(max_memory))
-                .map_err(|e| spec_error(Some(&spec), e))?;
-            let all_cores = replicas.iter().map(|r| replica_bytes(&s, r).total()).fold(
-                Vec::new(),
-                |mut v, b| {
-                    v.push(b);
-                    v
-                },
-            );
-            let mut sorted = all_cores;
-            sorted.sort_by(|a, b| b.total_cmp(a));
-            let at_once: f64 = sorted.iter().take(available_threads()).sum();
-            println!(
-                "{}: valid; {} replicas, at most {:.3e} pair collisions (tau_max = {}, melt {}); per replica at most {:.0} samples and {} snapshots; memory: about {} for the largest replica{}, {} for {} at once",
-                spec.display(),
-                replicas.len(),
-                collisions,
-                s.stop.tau_max,
-                melt,
-                s.samples_per_replica(),
-                snapshots_per_replica(&s),
-                Bytes(estimate.run_bytes),
-                estimate
-                    .largest
-                    .as_ref()
-                    .map(|(r, _)| format!(" ({})", r.file_name()))
-                    .unwrap_or_default(),
-                Bytes(at_once),
-                available_threads().min(replicas.len()),
-            );
-            Ok(ExitCode::SUCCESS)
-        }
+        Command::ValidateSpec { spec, max_memory } => validate_command(spec, max_memory),
     }
+}
+
+/// `edmd run`: the memory estimate first, then the sweep (or this shard of it), the phase table.
+#[allow(clippy::too_many_arguments)]
+fn run_command(
+    spec: Option<PathBuf>,
+    out: Option<PathBuf>,
+    threads: Option<usize>,
+    max_memory: Option<u64>,
+    shard: Option<String>,
+    force: bool,
+    quiet: bool,
+    format: FormatArg,
+) -> anyhow::Result<ExitCode> {
+    let spec_value = load_spec(spec.as_deref())?;
+    let shard = shard.as_deref().map(Shard::parse).transpose()?;
+    let threads = thread_count(threads)?;
+    // The memory estimate is checked before anything is written.
+    let mine: Vec<_> = spec_value
+        .replicas()
+        .into_iter()
+        .filter(|r| shard.is_none_or(|s| s.contains(r.index)))
+        .collect();
+    check_memory(&spec_value, &mine, threads, MemoryLimit::new(max_memory))
+        .map_err(|e| spec_error(spec.as_deref(), e))?;
+    drop(mine);
+    let root = out.unwrap_or_else(|| Path::new("edmd-out").join(&spec_value.name));
+    let mode = shard.map_or(LockMode::Exclusive, LockMode::Shard);
+    let dir = OutDir::prepare(&root, &spec_value, force, mode)?;
+    let opts = RunOptions {
+        threads: Some(threads),
+        max_memory,
+        shard,
+        force,
+    };
+    let report = run_sweep(&spec_value, &dir, &opts, &Bar::new(quiet))?;
+    say_ran(&spec_value, &report, shard, &root);
+    match &report.records {
+        Some(records) => print!(
+            "{}",
+            render(&phase_table(&spec_value, records), format.into())
+        ),
+        None => eprintln!(
+            "other shards are still missing: once all have run, `edmd merge {}` builds the index",
+            root.display()
+        ),
+    }
+    Ok(say_problems(&report.problems))
+}
+
+/// `edmd status`: the replicas by status, a run in progress, and why each failed one ended.
+fn status_command(out: PathBuf) -> anyhow::Result<ExitCode> {
+    let (dir, spec) = OutDir::open(&out)?;
+    let records = dir.records(&spec);
+    let partial = spec
+        .replicas()
+        .iter()
+        .filter(|r| dir.part_path(r).exists())
+        .count();
+    let count = |s: Status| records.iter().filter(|r| r.status == s).count();
+    println!(
+        "{}: {} replicas: {} done, {} collapsed, {} stalled, {} failed, {} corrupt, {} in flight or partial, {} pending",
+        spec.name,
+        records.len(),
+        count(Status::Done),
+        count(Status::Collapsed),
+        count(Status::Stalled),
+        count(Status::Failed),
+        count(Status::Corrupt),
+        partial,
+        count(Status::Missing).saturating_sub(partial)
+    );
+    if let Some(who) = edmd_sweep::lock::running(&out) {
+        // A replica being simulated has no file yet: the pending ones include it.
+        println!("  a run is in progress ({who}): its replicas being simulated now are among the pending");
+    }
+    for r in records.iter().filter(|r| {
+        matches!(
+            r.status,
+            Status::Failed | Status::Collapsed | Status::Stalled | Status::Corrupt
+        )
+    }) {
+        println!("  {} r{:05}: {}", r.status, r.index, r.message);
+    }
+    if count(Status::Corrupt) > 0 {
+        println!("  (rerun `edmd run` with the same spec and -o: corrupt files are moved aside and redone)");
+    }
+    Ok(exit_for(&records))
+}
+
+/// `edmd merge`: the shards' files into one output and its index.
+fn merge_command(inputs: Vec<PathBuf>, out: Option<PathBuf>) -> anyhow::Result<ExitCode> {
+    let target = out.unwrap_or_else(|| inputs[0].clone());
+    let report = merge::merge(&inputs, &target)?;
+    for (path, why) in &report.skipped {
+        eprintln!("corrupt: {} ({why}): not copied", path.display());
+    }
+    let records = report.records;
+    let missing: Vec<usize> = records
+        .iter()
+        .filter(|r| !r.status.has_file())
+        .map(|r| r.index)
+        .collect();
+    eprintln!(
+        "merged {} of {} replicas into {}",
+        records.len() - missing.len(),
+        records.len(),
+        target.display()
+    );
+    if missing.is_empty() {
+        Ok(ExitCode::SUCCESS)
+    } else {
+        eprintln!(
+            "error: {} replica(s) missing (indices {:?}); rerun the shards that hold them, then merge again",
+            missing.len(),
+            missing
+        );
+        Ok(ExitCode::from(2))
+    }
+}
+
+/// `edmd summarize`: the phase table of an output, corrupt files named.
+fn summarize_command(out: PathBuf, format: FormatArg) -> anyhow::Result<ExitCode> {
+    let (dir, spec) = OutDir::open(&out)?;
+    let records = dir.records(&spec);
+    for r in records.iter().filter(|r| r.status == Status::Corrupt) {
+        eprintln!(
+            "corrupt: replicas/{} ({}); counted as missing (rerun `edmd run` to redo it)",
+            r.file, r.message
+        );
+    }
+    print!("{}", render(&phase_table(&spec, &records), format.into()));
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `edmd validate-spec`: the checks of a run without running, and what the spec would cost.
+fn validate_command(spec: PathBuf, max_memory: Option<u64>) -> anyhow::Result<ExitCode> {
+    let s = load_spec(Some(&spec))?;
+    let replicas = s.replicas();
+    // Collisions per particle: the elastic melt (at most 20 by default, for lattice starts)
+    // and the run to tau_max.
+    let melt = s.init.melt_tau.unwrap_or(20.0);
+    let collisions: f64 = replicas
+        .iter()
+        .map(|r| r.n as f64 * (s.stop.tau_max + melt))
+        .sum();
+    // One replica must fit; how many fit at once is checked by `run` with its --threads.
+    let estimate = check_memory(&s, &replicas, 1, MemoryLimit::new(max_memory))
+        .map_err(|e| spec_error(Some(&spec), e))?;
+    let all_cores =
+        replicas
+            .iter()
+            .map(|r| replica_bytes(&s, r).total())
+            .fold(Vec::new(), |mut v, b| {
+                v.push(b);
+                v
+            });
+    let mut sorted = all_cores;
+    sorted.sort_by(|a, b| b.total_cmp(a));
+    let at_once: f64 = sorted.iter().take(available_threads()).sum();
+    println!(
+        "{}: valid; {} replicas, at most {:.3e} pair collisions (tau_max = {}, melt {}); per replica at most {:.0} samples and {} snapshots; memory: about {} for the largest replica{}, {} for {} at once",
+        spec.display(),
+        replicas.len(),
+        collisions,
+        s.stop.tau_max,
+        melt,
+        s.samples_per_replica(),
+        snapshots_per_replica(&s),
+        Bytes(estimate.run_bytes),
+        estimate
+            .largest
+            .as_ref()
+            .map(|(r, _)| format!(" ({})", r.file_name()))
+            .unwrap_or_default(),
+        Bytes(at_once),
+        available_threads().min(replicas.len()),
+    );
+    Ok(ExitCode::SUCCESS)
 }
 
 /// The worker threads: `--threads`, at most (and by default) what this process may use.

@@ -29,6 +29,7 @@ use std::path::Path;
 use hdf5::types::VarLenUnicode;
 use hdf5::{Group, Location};
 
+mod parameters;
 mod read;
 mod scene;
 use ndarray::{Array1, Array2, Array3};
@@ -256,7 +257,17 @@ fn write_file(file: &hdf5::File, spec: &Spec, r: &Replica, out: &Outcome) -> hdf
     let w = Writer {
         compression: spec.output.compression,
     };
-    // H5MD metadata.
+    write_h5md(file, spec)?;
+    parameters::write(&file.create_group("parameters")?, spec, r, out)?;
+    if out.status == Status::Failed {
+        return Ok(());
+    }
+    write_particles(&w, file, r, out)?;
+    write_observables(&w, &file.create_group("observables")?, spec, r, out)
+}
+
+/// The H5MD metadata: version, author and creator.
+fn write_h5md(file: &hdf5::File, spec: &Spec) -> hdf5::Result<()> {
     let h5md = file.create_group("h5md")?;
     h5md.new_attr::<i32>()
         .shape(2)
@@ -268,112 +279,11 @@ fn write_file(file: &hdf5::File, spec: &Spec, r: &Replica, out: &Outcome) -> hdf
     attr_str(&creator, "name", "edmd")?;
     attr_str(&creator, "version", env!("CARGO_PKG_VERSION"))?;
 
-    // Parameters and results.
-    let p = file.create_group("parameters")?;
-    attr_i64(&p, "schema_version", SCHEMA_VERSION)?;
-    // The spec without a refinement's points: a replica's file is the same whichever round ran it.
-    let base = spec.base();
-    attr_str(&p, "spec", &base.canonical_json())?;
-    attr_str(&p, "spec_hash", &spec.hash())?;
-    attr_str(&p, "sweep_name", &spec.name)?;
-    attr_str(&p, "engine_version", env!("CARGO_PKG_VERSION"))?;
-    attr_str(&p, "git_commit", GIT_COMMIT)?;
-    attr_i64(&p, "index", r.index as i64)?;
-    attr_i64(&p, "dim", r.dim as i64)?;
-    attr_str(&p, "boundary", r.boundary.name())?;
-    attr_f64(&p, "eps", r.eps)?;
-    attr_f64(&p, "beta", r.beta)?;
-    attr_f64(&p, "inertia", if r.rough() { r.inertia } else { f64::NAN })?;
-    if let Some(m) = &r.species {
-        // The mixture as JSON (fraction, diameter, mass per species), and Garzó–Dufty's T_k/T.
-        attr_str(
-            &p,
-            "species",
-            &serde_json::to_string(m.as_slice()).unwrap_or_default(),
-        )?;
-        let counts = r.species_counts();
-        p.new_attr::<i64>()
-            .shape(counts.len())
-            .create("species_count")?
-            .write(&counts.iter().map(|&c| c as i64).collect::<Vec<_>>()[..])?;
-        let theory = crate::replica::species_temperature_theory(spec, r);
-        p.new_attr::<f64>()
-            .shape(theory.len())
-            .create("species_temperature_theory")?
-            .write(&theory[..])?;
-    }
-    scene::rotational_parameters(&p, spec, r)?;
-    scene::shear_parameters(&p, spec, r)?;
-    attr_f64(&p, "gravity", r.gravity)?;
-    attr_f64(&p, "wall_eps", r.wall_eps)?;
-    attr_f64(&p, "floor_temperature", r.floor_temperature)?;
-    let aspect = r.aspect.as_ref().map(|a| crate::spec::aspect_label(a));
-    attr_str(&p, "aspect", &aspect.unwrap_or_default())?;
-    let sides = r.sides();
-    p.new_attr::<f64>()
-        .shape(sides.len())
-        .create("box_sides")?
-        .write(&sides[..])?;
-    attr_f64(&p, "phi", r.phi())?;
-    attr_f64(&p, "box_side", r.side())?;
-    attr_i64(&p, "n", r.n as i64)?;
-    attr_i64(&p, "seed_index", r.seed_index as i64)?;
-    attr_u64(&p, "seed", r.seed)?;
-    attr_str(&p, "remedy", &r.remedy.label())?;
-    attr_str(
-        &p,
-        "rule",
-        &serde_json::to_string(&spec.rule).expect("rule"),
-    )?;
-    attr_str(&p, "status", out.status.name())?;
-    attr_str(&p, "message", &out.message)?;
-    attr_f64(&p, "t0", out.t0)?;
-    let last = |v: &[f64]| v.last().copied().unwrap_or(f64::NAN);
-    attr_f64(&p, "final_tau", last(&out.series.tau))?;
-    attr_f64(&p, "final_time", last(&out.series.time))?;
-    attr_f64(
-        &p,
-        "final_ln_temperature_ratio",
-        last(&out.series.ln_temperature) - out.t0.ln(),
-    )?;
-    attr_u64(&p, "collisions", out.collisions)?;
-    let (ct, ctau) = out.collapse.unwrap_or((f64::NAN, f64::NAN));
-    attr_f64(&p, "collapse_time", ct)?;
-    attr_f64(&p, "collapse_tau", ctau)?;
-    attr_f64(&p, "wall_s", out.wall_s)?;
-    let os = &out.series.order;
-    let lastv = |v: &[f64]| v.last().copied().unwrap_or(f64::NAN);
-    match &out.classification {
-        Some(c) => {
-            attr_str(&p, "class", c.class.name())?;
-            attr_str(&p, "class_note", &c.note)?;
-            attr_f64(&p, "shear_onset_tau", c.shear_onset)?;
-            attr_f64(&p, "cluster_onset_tau", c.cluster_onset)?;
-        }
-        None => {
-            attr_str(&p, "class", "unclassified")?;
-            attr_str(&p, "class_note", "")?;
-            attr_f64(&p, "shear_onset_tau", f64::NAN)?;
-            attr_f64(&p, "cluster_onset_tau", f64::NAN)?;
-        }
-    }
-    attr_f64(&p, "final_f_flow", lastv(&os.f_flow))?;
-    attr_f64(&p, "final_s_perp", lastv(&os.s_perp))?;
-    attr_f64(
-        &p,
-        "final_delta_rho2",
-        lastv(&os.delta_rho2) - os.delta_rho2.first().copied().unwrap_or(f64::NAN),
-    )?;
-    attr_f64(&p, "per_cell", out.per_cell)?;
-    let spec_group = p.create_group("spec")?;
-    let tree = serde_json::to_value(&base).expect("spec serialises");
-    json_attrs(&spec_group, "", &tree)?;
+    Ok(())
+}
 
-    if out.status == Status::Failed {
-        return Ok(());
-    }
-
-    // Particles.
+/// The particles: box, masses, radii, species, and the snapshots' trajectories.
+fn write_particles(w: &Writer, file: &hdf5::File, r: &Replica, out: &Outcome) -> hdf5::Result<()> {
     let d = r.dim;
     let gas = file.create_group("particles")?.create_group("gas")?;
     let bx = gas.create_group("box")?;
@@ -404,7 +314,7 @@ fn write_file(file: &hdf5::File, spec: &Spec, r: &Replica, out: &Outcome) -> hdf
     if !out.snapshots.is_empty() {
         w.trajectory(&gas, "position", &out.snapshots, r.n, d, |s| &s.position)?;
         w.trajectory(&gas, "velocity", &out.snapshots, r.n, d, |s| &s.velocity)?;
-        scene::shear_offsets(&w, &bx, r, &out.snapshots)?;
+        scene::shear_offsets(w, &bx, r, &out.snapshots)?;
         if r.rough() {
             // ω_z of disks, (N, 1); ω of spheres, (N, 3).
             let width = if d == 2 { 1 } else { 3 };
@@ -414,8 +324,17 @@ fn write_file(file: &hdf5::File, spec: &Spec, r: &Replica, out: &Outcome) -> hdf
         }
     }
 
-    // Observables.
-    let obs = file.create_group("observables")?;
+    Ok(())
+}
+
+/// The observables sampled on the schedule, each with its step and time.
+fn write_observables(
+    w: &Writer,
+    obs: &Group,
+    spec: &Spec,
+    r: &Replica,
+    out: &Outcome,
+) -> hdf5::Result<()> {
     let s = &out.series;
     let columns: [(&str, &[f64]); 9] = [
         ("tau", &s.tau),
@@ -429,11 +348,11 @@ fn write_file(file: &hdf5::File, spec: &Spec, r: &Replica, out: &Outcome) -> hdf
         ("haff_temperature", &s.haff_temperature),
     ];
     for (name, values) in columns {
-        w.observable(&obs, name, &s.step, &s.time, values)?;
+        w.observable(obs, name, &s.step, &s.time, values)?;
     }
     if r.rough() && s.rotational_temperature.len() == s.step.len() {
         w.observable(
-            &obs,
+            obs,
             "rotational_temperature",
             &s.step,
             &s.time,
@@ -442,7 +361,7 @@ fn write_file(file: &hdf5::File, spec: &Spec, r: &Replica, out: &Outcome) -> hdf
     }
     if !s.species_temperature.is_empty() && s.species_temperature.len() == s.step.len() {
         w.observable_2d(
-            &obs,
+            obs,
             "species_temperature",
             &s.step,
             &s.time,
@@ -453,13 +372,7 @@ fn write_file(file: &hdf5::File, spec: &Spec, r: &Replica, out: &Outcome) -> hdf
         // n(z) per sample; `position` holds the bin centres along the last axis, `theory` the
         // barometric profile of an elastic column (PHYSICS.md §1.4).
         let bins = out.profile_bins;
-        let g = w.observable_2d(
-            &obs,
-            "density_profile",
-            &s.step,
-            &s.time,
-            &s.density_profile,
-        )?;
+        let g = w.observable_2d(obs, "density_profile", &s.step, &s.time, &s.density_profile)?;
         let height = out.box_len.last().copied().unwrap_or(0.0);
         let centres: Vec<f64> = (0..bins)
             .map(|b| (b as f64 + 0.5) * height / bins as f64)
@@ -469,12 +382,12 @@ fn write_file(file: &hdf5::File, spec: &Spec, r: &Replica, out: &Outcome) -> hdf
             .create("position")?;
         scene::profile_theory(&g, r, s, bins)?;
     }
-    scene::rotational_observables(&w, &obs, spec, r, s)?;
-    scene::shear_observables(&w, &obs, r, s, &out.box_len)?;
+    scene::rotational_observables(w, obs, spec, r, s)?;
+    scene::shear_observables(w, obs, r, s, &out.box_len)?;
     let collisions: Vec<f64> = s.step.iter().map(|&c| c as f64).collect();
-    w.observable(&obs, "collisions", &s.step, &s.time, &collisions)?;
+    w.observable(obs, "collisions", &s.step, &s.time, &collisions)?;
     let walls: Vec<f64> = s.wall_collisions.iter().map(|&c| c as f64).collect();
-    w.observable(&obs, "wall_collisions", &s.step, &s.time, &walls)?;
+    w.observable(obs, "wall_collisions", &s.step, &s.time, &walls)?;
     if let Some(c) = &out.classification {
         let o = &s.order;
         let order: [(&str, &[f64]); 6] = [
@@ -487,7 +400,7 @@ fn write_file(file: &hdf5::File, spec: &Spec, r: &Replica, out: &Outcome) -> hdf
         ];
         for (name, values) in order {
             if values.len() == s.step.len() {
-                w.observable(&obs, name, &s.step, &s.time, values)?;
+                w.observable(obs, name, &s.step, &s.time, values)?;
             }
         }
     }

@@ -13,6 +13,7 @@ use crate::classify::{critical_box_sides, Class, Classification, OrderSeries, Th
 pub use crate::record::Status;
 use crate::spec::{viscoelastic, BoundaryKind, Remedy, Replica, RuleSpec, Spec};
 
+mod sampler;
 mod scene_theory;
 mod shear;
 mod simulate;

@@ -1,15 +1,15 @@
 //! The run of one replica in its monomorphised types: melt, cool to the stop, sample observables
 //! and order parameters on the schedule, keep the snapshots, watch for collapse and stalls.
 
-use edmd_core::theory::haff_temperature_tau;
 use edmd_core::{
-    order_parameters, Boundary, CollisionRule, EdmdError, Engine, InitParams, RunEnd, Schedule,
-    SimParams, Simulation, Stop, Vector, Velocities, VirialMeter,
+    Boundary, CollisionRule, EdmdError, Engine, InitParams, RunEnd, Schedule, SimParams,
+    Simulation, Stop, Vector, Velocities,
 };
 
+use super::sampler::{snapshot, Sampler};
 use super::{theory, Outcome, Series, Snapshot, Status};
-use crate::classify::{classify, settled, Class, Classification};
-use crate::spec::{Replica, RuleSpec, Spec, VelocityKind};
+use crate::classify::{classify, settled, Class, Classification, Theory};
+use crate::spec::{Replica, Spec, VelocityKind};
 
 /// Events between progress reports and checks for ceased collisions.
 const CHUNK_EVENTS: u64 = 500_000;
@@ -20,44 +20,6 @@ const CHUNK_EVENTS: u64 = 500_000;
 /// would spend ever more events per τ and never end.
 pub(super) const STALL_EVENTS_PER_COLLISION: u64 = 1000;
 const STALL_WINDOW_PER_PARTICLE: u64 = 1000;
-
-fn flat<const D: usize>(v: &[Vector<D>]) -> Vec<f64> {
-    v.iter().flat_map(|x| x.iter().copied()).collect()
-}
-
-/// Angular velocities of rough grains, N × 1 (ω_z) in 2D and N × 3 in 3D; empty for smooth grains.
-fn spins<const D: usize>(sim: &dyn Engine<D>) -> Vec<f64> {
-    if !sim.rough() {
-        return Vec::new();
-    }
-    let w = sim.spins();
-    if D == 2 {
-        w.iter().map(|s| s[2]).collect()
-    } else {
-        w.iter().flat_map(|s| s.iter().copied()).collect()
-    }
-}
-
-/// The state now, in the original particle order.
-fn snapshot<const D: usize>(sim: &dyn Engine<D>) -> Snapshot {
-    Snapshot {
-        step: sim.counters().pair_collisions as i64,
-        time: sim.time(),
-        position: flat(&sim.positions()),
-        velocity: flat(&sim.velocities()),
-        angular_velocity: spins(sim),
-        box_offset: sim.shear_offset(),
-    }
-}
-
-/// Rotational degrees of freedom per particle: 1 for disks, 3 for spheres.
-const fn rotational_dof(d: usize) -> f64 {
-    if d == 2 {
-        1.0
-    } else {
-        3.0
-    }
-}
 
 /// Runs replica `r` in the scene `B` with `rule`: the only part compiled per scene and grain kind
 /// is building the simulation; the run itself is [`drive`], compiled once per dimension.
@@ -118,278 +80,290 @@ fn drive<const D: usize>(
     sim: &mut dyn Engine<D>,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<Outcome, EdmdError> {
-    let sides = r.sides();
-    let counts = r.species_counts();
-    let t0 = sim.temperature();
-    let n = r.n as f64;
-    let volume = sim.box_len().iter().product::<f64>();
-    // Haff's law of one species of smooth grains; rough grains and mixtures cool by other laws.
-    let haff = matches!(spec.rule, RuleSpec::Constant {})
-        && !r.rough()
-        && r.species.is_none()
-        && !r.driven_or_stratified()
-        && r.wall_eps == 1.0;
-    // Order parameters only where the classes apply (free cooling).
-    let grid = spec
-        .classify
-        .as_ref()
-        .filter(|_| !r.driven_or_stratified())
-        .map(|c| c.grid_for(r.n, D));
-    // Under gravity: the number density n(z) along the last axis in bins of about one diameter.
-    let profile_bins = if r.gravity > 0.0 {
-        (sides[D - 1].floor() as usize).max(1)
-    } else {
-        0
-    };
-    let cross_section: f64 = sides[..D - 1].iter().product();
-    let masses = sim.masses();
     let theory = theory(spec, r);
-
-    let mut snapshot_points = spec.snapshots.at.clone();
-    snapshot_points.retain(|&t| t <= spec.stop.tau_max);
-    // The snapshot times (the `at` points and the snapshot grids); each is also a sample.
-    let snapshot_times = spec.snapshots.schedule();
-    let mut next_snapshot = snapshot_times
-        .first_at_or_after(0.0)
-        .filter(|&t| t <= spec.stop.tau_max);
-    let schedule = Schedule {
-        linear: spec.samples.every,
-        log_per_decade: (spec.samples.per_decade > 0).then_some(spec.samples.per_decade),
-        log_start: spec.samples.log_from,
-        points: snapshot_points
-            .iter()
-            .copied()
-            .chain([0.0, spec.stop.tau_max])
-            .collect(),
-    };
-
-    let mut series = Series::default();
-    let mut snapshots = Vec::new();
-    let mut meter: Option<VirialMeter> = None;
-    let mut reported = 0u64;
-    let mut sampled_at: Option<u64> = None;
-
-    let sample = |sim: &mut dyn Engine<D>,
-                  series: &mut Series,
-                  snapshots: &mut Vec<Snapshot>,
-                  meter: &mut Option<VirialMeter>,
-                  snapshot: bool| {
-        let o = sim.observe();
-        let z = match meter {
-            Some(m) if sim.time() > 0.0 => {
-                let reading = m.read(sim);
-                if reading.duration > 0.0 {
-                    reading.z
-                } else {
-                    f64::NAN
-                }
-            }
-            _ => f64::NAN,
-        };
-        *meter = Some(VirialMeter::start(sim));
-        series.step.push(o.pair_collisions as i64);
-        series.time.push(o.time);
-        series.tau.push(o.tau);
-        series.temperature.push(o.temperature);
-        series.ln_temperature.push(o.ln_temperature);
-        series.kinetic_energy.push(o.kinetic_energy);
-        series.kurtosis.push(o.kurtosis);
-        series.wall_collisions.push(o.wall_collisions as i64);
-        series.compressibility.push(z);
-        series.pressure.push(z * n * o.temperature / volume);
-        series
-            .momentum_error
-            .push(o.momentum.norm() / o.momentum_scale.max(f64::MIN_POSITIVE));
-        if profile_bins > 0 {
-            let width = sides[D - 1] / profile_bins as f64;
-            let mut n_z = vec![0.0; profile_bins];
-            for x in sim.positions() {
-                let b = ((x[D - 1] / width) as usize).min(profile_bins - 1);
-                n_z[b] += 1.0 / (cross_section * width);
-            }
-            series.density_profile.push(n_z);
-        }
-        if r.species.is_some() {
-            // T_k = Σ_{a∈k} m v_a² / (d N_k), species in order.
-            let mut e = vec![0.0; counts.len()];
-            for ((v, m), &k) in sim
-                .peculiar_velocities()
-                .iter()
-                .zip(&masses)
-                .zip(species_of)
-            {
-                e[k] += m * v.norm_squared();
-            }
-            series.species_temperature.push(
-                e.iter()
-                    .zip(&counts)
-                    .map(|(e, &c)| e / (D as f64 * c as f64))
-                    .collect(),
-            );
-        }
-        if r.sheared() {
-            series.shear.sample(sim, &masses);
-        }
-        if sim.rough() {
-            // T_rot = Σ I ω² / (d_rot N) (PHYSICS.md §6.5), beside the translational T.
-            series
-                .rotational_temperature
-                .push(2.0 * sim.rotational_energy() / (rotational_dof(D) * n));
-        }
-        series.haff_temperature.push(if haff {
-            haff_temperature_tau(D, r.eps, t0, o.tau)
+    let mut sampler = Sampler::new(spec, r, species_of, &*sim);
+    let mut run = Run::new(spec, r, *sim.counters());
+    run.go(sim, &mut sampler, &theory, progress);
+    let c = sim.counters().pair_collisions;
+    progress(c - run.reported);
+    // The final state: sampled once, with a snapshot when asked.
+    let final_snapshot = spec.snapshots.last;
+    if run.sampled_at != Some(c) {
+        sampler.sample(
+            &mut *sim,
+            &mut run.series,
+            &mut run.snapshots,
+            final_snapshot,
+        );
+    } else if final_snapshot && run.snapshots.last().map(|s| s.step) != Some(c as i64) {
+        run.snapshots.push(snapshot(&*sim));
+    }
+    let (status, message, collapse) = run.ending(&*sim);
+    let classification = classification(spec, r, status, &run.series, &theory);
+    Ok(Outcome {
+        status,
+        message,
+        series: run.series,
+        snapshots: run.snapshots,
+        box_len: sim.box_len().iter().copied().collect(),
+        profile_bins: sampler.profile_bins,
+        radius: p.radii.clone().unwrap_or_else(|| vec![p.radius; r.n]),
+        mass: sim.masses(),
+        species: if r.species.is_some() {
+            species_of.iter().map(|&k| k as i64).collect()
         } else {
-            f64::NAN
-        });
-        if let Some(grid) = grid {
-            let mut walls = [false; D];
-            for (a, w) in walls.iter_mut().enumerate() {
-                *w = sim.has_walls(a);
-            }
-            let op = order_parameters(
-                &sim.positions(),
-                &sim.velocities_internal(),
-                &masses,
-                sim.box_len(),
-                walls,
-                grid,
-            );
-            let os = &mut series.order;
-            os.tau.push(o.tau);
-            os.ln_temperature.push(o.ln_temperature);
-            os.f_flow.push(op.f_flow);
-            os.s_perp.push(op.s_perp);
-            os.delta_rho2.push(op.delta_rho2);
-            os.f_2x.push(op.f_2x);
-            os.s_rho.push(op.s_rho);
-        }
-        if snapshot {
-            snapshots.push(self::snapshot(sim));
-        }
-    };
+            Vec::new()
+        },
+        t0: sampler.t0(),
+        collisions: c,
+        collapse,
+        wall_s: 0.0,
+        classification,
+        per_cell: theory.per_cell,
+    })
+}
 
-    let mut next = earliest(schedule.first_at_or_after(0.0), next_snapshot);
-    let mut end = RunEnd::Reached;
-    let mut stopped_cold = false;
-    let mut stalled: Option<String> = None;
-    let mut window = *sim.counters();
-    let mut settled_as: Option<Class> = None;
-    while let Some(point) = next {
-        // Advance to the sample point in chunks, reporting progress.
-        let target = (point * n).ceil() as u64;
-        while end == RunEnd::Reached && sim.counters().pair_collisions < target && stalled.is_none()
+/// The sample and snapshot points of a replica, in τ.
+struct Points {
+    schedule: Schedule,
+    snapshot_times: Schedule,
+    next_snapshot: Option<f64>,
+    tau_max: f64,
+}
+
+impl Points {
+    fn new(spec: &Spec) -> Self {
+        let tau_max = spec.stop.tau_max;
+        let mut snapshot_points = spec.snapshots.at.clone();
+        snapshot_points.retain(|&t| t <= tau_max);
+        // The snapshot times (the `at` points and the snapshot grids); each is also a sample.
+        let snapshot_times = spec.snapshots.schedule();
+        let next_snapshot = snapshot_times
+            .first_at_or_after(0.0)
+            .filter(|&t| t <= tau_max);
+        let schedule = Schedule {
+            linear: spec.samples.every,
+            log_per_decade: (spec.samples.per_decade > 0).then_some(spec.samples.per_decade),
+            log_start: spec.samples.log_from,
+            points: snapshot_points
+                .iter()
+                .copied()
+                .chain([0.0, tau_max])
+                .collect(),
+        };
+        Points {
+            schedule,
+            snapshot_times,
+            next_snapshot,
+            tau_max,
+        }
+    }
+
+    fn first(&self) -> Option<f64> {
+        earliest(self.schedule.first_at_or_after(0.0), self.next_snapshot)
+    }
+
+    /// Whether `point` takes a snapshot; if so, the next snapshot time moves on.
+    fn take_snapshot(&mut self, point: f64) -> bool {
+        let snap = self.next_snapshot.is_some_and(|t| same_point(t, point));
+        if snap {
+            self.next_snapshot = after(&self.snapshot_times, point, self.tau_max);
+        }
+        snap
+    }
+
+    fn next(&self, point: f64) -> Option<f64> {
+        earliest(
+            after(&self.schedule, point, self.tau_max),
+            self.next_snapshot,
+        )
+    }
+}
+
+/// The run of a replica from sample point to sample point, and how it ended.
+struct Run<'a> {
+    spec: &'a Spec,
+    r: &'a Replica,
+    series: Series,
+    snapshots: Vec<Snapshot>,
+    end: RunEnd,
+    stopped_cold: bool,
+    stalled: Option<String>,
+    settled_as: Option<Class>,
+    /// Pair collisions already reported to `progress`.
+    reported: u64,
+    /// The collision count of the last sample.
+    sampled_at: Option<u64>,
+    /// The counters at the start of the current stall window.
+    window: edmd_core::Counters,
+}
+
+impl<'a> Run<'a> {
+    fn new(spec: &'a Spec, r: &'a Replica, counters: edmd_core::Counters) -> Self {
+        Run {
+            spec,
+            r,
+            series: Series::default(),
+            snapshots: Vec::new(),
+            end: RunEnd::Reached,
+            stopped_cold: false,
+            stalled: None,
+            settled_as: None,
+            reported: 0,
+            sampled_at: None,
+            window: counters,
+        }
+    }
+
+    /// Samples at every point of the schedule until the stop, a collapse, a stall or an early stop.
+    fn go<const D: usize>(
+        &mut self,
+        sim: &mut dyn Engine<D>,
+        sampler: &mut Sampler<'_>,
+        theory: &Theory,
+        progress: &(dyn Fn(u64) + Sync),
+    ) {
+        let mut points = Points::new(self.spec);
+        let t0 = sampler.t0();
+        let mut next = points.first();
+        while let Some(point) = next {
+            self.advance(sim, (point * self.r.n as f64).ceil() as u64, progress);
+            if self.stalled.is_some() || self.end != RunEnd::Reached {
+                break;
+            }
+            let snap = points.take_snapshot(point);
+            let c = sim.counters().pair_collisions;
+            if self.sampled_at != Some(c) {
+                sampler.sample(&mut *sim, &mut self.series, &mut self.snapshots, snap);
+            } else if snap && self.snapshots.last().map(|s| s.step) != Some(c as i64) {
+                // Two schedule points on one collision (small N): one sample, and the snapshot
+                // asked for here is the state already sampled.
+                self.snapshots.push(snapshot(&*sim));
+            }
+            self.sampled_at = Some(sim.counters().pair_collisions);
+            if self.stops_early(&*sim, t0, theory) {
+                break;
+            }
+            next = points.next(point);
+        }
+    }
+
+    /// Advances to `target` pair collisions in chunks, reporting progress and watching for ceased
+    /// collisions.
+    fn advance<const D: usize>(
+        &mut self,
+        sim: &mut dyn Engine<D>,
+        target: u64,
+        progress: &(dyn Fn(u64) + Sync),
+    ) {
+        let n = self.r.n as u64;
+        while self.end == RunEnd::Reached
+            && sim.counters().pair_collisions < target
+            && self.stalled.is_none()
         {
             // A pair collision is one event, so this many events cannot overshoot the target.
             let left = target - sim.counters().pair_collisions;
-            end = sim.run(Stop::Events(left.min(CHUNK_EVENTS)));
+            self.end = sim.run(Stop::Events(left.min(CHUNK_EVENTS)));
             let c = *sim.counters();
-            progress(c.pair_collisions - reported);
-            reported = c.pair_collisions;
-            let (events, pairs) = (
-                c.events - window.events,
-                c.pair_collisions - window.pair_collisions,
-            );
-            if events >= STALL_WINDOW_PER_PARTICLE * r.n as u64 {
+            progress(c.pair_collisions - self.reported);
+            self.reported = c.pair_collisions;
+            let events = c.events - self.window.events;
+            let pairs = c.pair_collisions - self.window.pair_collisions;
+            if events >= STALL_WINDOW_PER_PARTICLE * n {
                 if pairs * STALL_EVENTS_PER_COLLISION < events {
-                    stalled = Some(super::stall::stall_reason(r, &window, &c, sim.tau()));
+                    self.stalled = Some(super::stall::stall_reason(
+                        self.r,
+                        &self.window,
+                        &c,
+                        sim.tau(),
+                    ));
                 }
-                window = c;
+                self.window = c;
             }
         }
-        if stalled.is_some() {
-            break;
-        }
-        if end != RunEnd::Reached {
-            break;
-        }
-        let snap = next_snapshot.is_some_and(|t| same_point(t, point));
-        let c = sim.counters().pair_collisions;
-        if sampled_at != Some(c) {
-            sample(&mut *sim, &mut series, &mut snapshots, &mut meter, snap);
-        } else if snap && snapshots.last().map(|s| s.step) != Some(c as i64) {
-            // Two schedule points on one collision (small N): one sample, and the snapshot asked
-            // for here is the state already sampled.
-            snapshots.push(snapshot(&*sim));
-        }
-        if snap {
-            next_snapshot = after(&snapshot_times, point, spec.stop.tau_max);
-        }
-        sampled_at = Some(sim.counters().pair_collisions);
-        if let Some(ratio) = spec.stop.temperature_ratio {
+    }
+
+    /// The early stops: cold enough (`stop.temperature_ratio`), or classified (`stop.classified`).
+    fn stops_early<const D: usize>(
+        &mut self,
+        sim: &dyn Engine<D>,
+        t0: f64,
+        theory: &Theory,
+    ) -> bool {
+        if let Some(ratio) = self.spec.stop.temperature_ratio {
             if sim.ln_temperature() - t0.ln() < ratio.ln() {
-                stopped_cold = true;
-                break;
+                self.stopped_cold = true;
+                return true;
             }
         }
         if let (true, Some(c), false) = (
-            spec.stop.classified,
-            &spec.classify,
-            r.driven_or_stratified(),
+            self.spec.stop.classified,
+            &self.spec.classify,
+            self.r.driven_or_stratified(),
         ) {
-            settled_as = settled(&series.order, &c.thresholds, &theory);
-            if settled_as.is_some() {
-                break;
+            self.settled_as = settled(&self.series.order, &c.thresholds, theory);
+            return self.settled_as.is_some();
+        }
+        false
+    }
+
+    /// How the run ended: its status, the message and, for a collapse, its time and τ.
+    fn ending<const D: usize>(
+        &mut self,
+        sim: &dyn Engine<D>,
+    ) -> (Status, String, Option<(f64, f64)>) {
+        match self.end {
+            RunEnd::Collapsed => {
+                let col = sim
+                    .collapse()
+                    .expect("a collapsed run records its collapse");
+                (
+                    Status::Collapsed,
+                    format!(
+                        "inelastic collapse ({:?}) at time {:.6e}, tau {:.4}",
+                        col.reason, col.time, col.tau
+                    ),
+                    Some((col.time, col.tau)),
+                )
             }
-        }
-        next = earliest(after(&schedule, point, spec.stop.tau_max), next_snapshot);
-    }
-    let c = sim.counters().pair_collisions;
-    progress(c - reported);
-    // The final state: sampled once, with a snapshot when asked.
-    let final_snapshot = spec.snapshots.last;
-    if sampled_at != Some(c) {
-        sample(
-            &mut *sim,
-            &mut series,
-            &mut snapshots,
-            &mut meter,
-            final_snapshot,
-        );
-    } else if final_snapshot && snapshots.last().map(|s| s.step) != Some(c as i64) {
-        snapshots.push(snapshot(&*sim));
-    }
-    let (status, message, collapse) = match end {
-        RunEnd::Collapsed => {
-            let col = sim
-                .collapse()
-                .expect("a collapsed run records its collapse");
-            (
-                Status::Collapsed,
+            RunEnd::Exhausted => (
+                Status::Stalled,
                 format!(
-                    "inelastic collapse ({:?}) at time {:.6e}, tau {:.4}",
-                    col.reason, col.time, col.tau
+                    "stalled at tau = {:.4}: no events left before the stop (every particle at rest)",
+                    sim.tau()
                 ),
-                Some((col.time, col.tau)),
-            )
-        }
-        RunEnd::Exhausted => (
-            Status::Stalled,
-            format!(
-                "stalled at tau = {:.4}: no events left before the stop (every particle at rest)",
-                sim.tau()
+                None,
             ),
-            None,
-        ),
-        RunEnd::Reached if stalled.is_some() => {
-            (Status::Stalled, stalled.take().unwrap_or_default(), None)
-        }
-        RunEnd::Reached if stopped_cold => (
-            Status::Done,
-            "stopped at stop.temperature_ratio".into(),
-            None,
-        ),
-        RunEnd::Reached if settled_as.is_some() => (
-            Status::Done,
-            format!(
-                "stopped early: class {} settled (stop.classified)",
-                settled_as.map(|c| c.name()).unwrap_or_default()
+            RunEnd::Reached if self.stalled.is_some() => {
+                (Status::Stalled, self.stalled.take().unwrap_or_default(), None)
+            }
+            RunEnd::Reached if self.stopped_cold => (
+                Status::Done,
+                "stopped at stop.temperature_ratio".into(),
+                None,
             ),
-            None,
-        ),
-        RunEnd::Reached => (Status::Done, String::new(), None),
-    };
-    let radius = p.radii.clone().unwrap_or_else(|| vec![p.radius; r.n]);
-    let classification = spec.classify.as_ref().map(|c| match status {
+            RunEnd::Reached if self.settled_as.is_some() => (
+                Status::Done,
+                format!(
+                    "stopped early: class {} settled (stop.classified)",
+                    self.settled_as.map(|c| c.name()).unwrap_or_default()
+                ),
+                None,
+            ),
+            RunEnd::Reached => (Status::Done, String::new(), None),
+        }
+    }
+}
+
+/// The classification of a replica that ended with `status` (None without `classify`).
+fn classification(
+    spec: &Spec,
+    r: &Replica,
+    status: Status,
+    series: &Series,
+    theory: &Theory,
+) -> Option<Classification> {
+    spec.classify.as_ref().map(|c| match status {
         Status::Done if r.sheared() => {
             super::shear::classify(&series.shear, r.n, c.thresholds.cluster_density)
         }
@@ -404,7 +378,7 @@ fn drive<const D: usize>(
                 "driven by a thermal floor: not free cooling".into()
             },
         },
-        Status::Done => classify(&series.order, &c.thresholds, &theory),
+        Status::Done => classify(&series.order, &c.thresholds, theory),
         Status::Collapsed
         | Status::Stalled
         | Status::Failed
@@ -425,27 +399,6 @@ fn drive<const D: usize>(
             .0,
             note: String::new(),
         },
-    });
-    Ok(Outcome {
-        status,
-        message,
-        series,
-        snapshots,
-        box_len: sim.box_len().iter().copied().collect(),
-        profile_bins,
-        radius,
-        mass: sim.masses(),
-        species: if r.species.is_some() {
-            species_of.iter().map(|&k| k as i64).collect()
-        } else {
-            Vec::new()
-        },
-        t0,
-        collisions: c,
-        collapse,
-        wall_s: 0.0,
-        classification,
-        per_cell: theory.per_cell,
     })
 }
 
