@@ -62,6 +62,22 @@ fn at_least_one(s: &str) -> Result<usize, String> {
     }
 }
 
+/// The axes of `--axes` (None when not given).
+fn asked_axes(axes: Option<&str>) -> anyhow::Result<Option<Vec<RefineAxis>>> {
+    axes.map(|list| {
+        list.split(',')
+            .map(|name| {
+                RefineAxis::parse(name).ok_or_else(|| {
+                    anyhow::anyhow!(
+                        "--axes {list}: unknown axis {name:?} (axes: eps, phi, box, n, beta)"
+                    )
+                })
+            })
+            .collect::<anyhow::Result<Vec<_>>>()
+    })
+    .transpose()
+}
+
 /// `edmd refine`: rounds of run, plan, extend the spec, until the rounds, the budget or the pairs
 /// that differ run out; with `--shard` only this share's unfinished replicas, with `--plan` only the
 /// index and the next round's points.
@@ -73,21 +89,7 @@ pub fn command(a: RefineArgs) -> anyhow::Result<ExitCode> {
             a.out.join("spec.json").display()
         );
     }
-    let asked = a
-        .axes
-        .as_deref()
-        .map(|list| {
-            list.split(',')
-                .map(|name| {
-                    RefineAxis::parse(name).ok_or_else(|| {
-                        anyhow::anyhow!(
-                            "--axes {list}: unknown axis {name:?} (axes: eps, phi, box, n, beta)"
-                        )
-                    })
-                })
-                .collect::<anyhow::Result<Vec<_>>>()
-        })
-        .transpose()?;
+    let asked = asked_axes(a.axes.as_deref())?;
     let axes = edmd_sweep::refine::choose_axes(&spec, asked.as_deref())?;
     let shard = a.shard.as_deref().map(Shard::parse).transpose()?;
     let threads = thread_count(a.threads)?;
@@ -102,32 +104,8 @@ pub fn command(a: RefineArgs) -> anyhow::Result<ExitCode> {
     };
     let mut problems = Vec::new();
     loop {
-        let records = if a.plan {
-            let records = dir.records(&spec);
-            let missing = records.iter().filter(|r| !r.status.has_file()).count();
-            if missing > 0 {
-                bail!(
-                    "refine --plan: {missing} replica(s) of {} are not finished; run them first (edmd refine {} --shard K/N, or without --shard)",
-                    a.out.display(),
-                    a.out.display()
-                );
-            }
-            dir.write_index(&spec, &records)?;
-            records
-        } else {
-            let report = run_sweep(&spec, &dir, &opts, &Bar::new(a.quiet))?;
-            say_ran(&spec, &report, shard, &a.out);
-            problems.extend(report.problems.iter().cloned());
-            match report.records {
-                Some(records) if shard.is_none() => records,
-                _ => {
-                    eprintln!(
-                        "refine: this shard's replicas are finished; `edmd refine {} --plan` plans the next round once every shard has run",
-                        a.out.display()
-                    );
-                    return Ok(say_problems(&problems));
-                }
-            }
+        let Some(records) = round_records(&a, &dir, &spec, &opts, &mut problems)? else {
+            return Ok(say_problems(&problems));
         };
         let done = edmd_sweep::refine::rounds(&spec);
         if done >= a.rounds {
@@ -137,14 +115,8 @@ pub fn command(a: RefineArgs) -> anyhow::Result<ExitCode> {
         let round =
             edmd_sweep::refine::plan(&edmd_sweep::refine::points(&spec, &records), &axes, left);
         if round.is_empty() {
-            let why = if left
-                < spec
-                    .grids()
-                    .iter()
-                    .map(|g| g.seeds as usize)
-                    .min()
-                    .unwrap_or(1)
-            {
+            let seeds = spec.grids().iter().map(|g| g.seeds as usize).min();
+            let why = if left < seeds.unwrap_or(1) {
                 format!("the budget of {budget} replicas is spent")
             } else {
                 "no pair of neighbouring points differs".to_string()
@@ -166,28 +138,80 @@ pub fn command(a: RefineArgs) -> anyhow::Result<ExitCode> {
             return Ok(ExitCode::SUCCESS);
         }
     }
-    let records = dir.records(&spec);
+    finish(&a, &dir, &mut spec, &axes)?;
+    Ok(say_problems(&problems))
+}
+
+/// The records of the sweep as it stands: with `--plan` those on disk (every replica must be
+/// finished), else after running its unfinished replicas. None when only this shard's are done.
+fn round_records(
+    a: &RefineArgs,
+    dir: &OutDir,
+    spec: &edmd_sweep::spec::Spec,
+    opts: &RunOptions,
+    problems: &mut Vec<(
+        edmd_sweep::spec::Replica,
+        edmd_sweep::record::Status,
+        String,
+    )>,
+) -> anyhow::Result<Option<Vec<edmd_sweep::record::Record>>> {
+    if a.plan {
+        let records = dir.records(spec);
+        let missing = records.iter().filter(|r| !r.status.has_file()).count();
+        if missing > 0 {
+            bail!(
+                "refine --plan: {missing} replica(s) of {} are not finished; run them first (edmd refine {} --shard K/N, or without --shard)",
+                a.out.display(),
+                a.out.display()
+            );
+        }
+        dir.write_index(spec, &records)?;
+        return Ok(Some(records));
+    }
+    let report = run_sweep(spec, dir, opts, &Bar::new(a.quiet))?;
+    say_ran(spec, &report, opts.shard, &a.out);
+    problems.extend(report.problems.iter().cloned());
+    match report.records {
+        Some(records) if opts.shard.is_none() => Ok(Some(records)),
+        _ => {
+            eprintln!(
+                "refine: this shard's replicas are finished; `edmd refine {} --plan` plans the next round once every shard has run",
+                a.out.display()
+            );
+            Ok(None)
+        }
+    }
+}
+
+/// The end of a refinement: the index and boundary, the phase table, and what it cost against the
+/// full grid of the same resolution.
+fn finish(
+    a: &RefineArgs,
+    dir: &OutDir,
+    spec: &mut edmd_sweep::spec::Spec,
+    axes: &[RefineAxis],
+) -> anyhow::Result<()> {
+    let records = dir.records(spec);
     if spec.refinement.is_none() {
         // No round was needed: the spec still records the refinement (and boundary.json is written).
         spec.refinement = Some(Refinement {
-            axes: axes.clone(),
+            axes: axes.to_vec(),
             rounds: Vec::new(),
         });
-        dir.set_spec(&spec)?;
+        dir.set_spec(spec)?;
     }
-    dir.write_index(&spec, &records)?;
-    print!("{}", render(&phase_table(&spec, &records), a.format.into()));
-    let spent = edmd_sweep::refine::refinement_replicas(&spec);
-    let full =
-        edmd_sweep::refine::full_grid_replicas(&spec, &axes, edmd_sweep::refine::rounds(&spec));
+    dir.write_index(spec, &records)?;
+    print!("{}", render(&phase_table(spec, &records), a.format.into()));
+    let spent = edmd_sweep::refine::refinement_replicas(spec);
+    let full = edmd_sweep::refine::full_grid_replicas(spec, axes, edmd_sweep::refine::rounds(spec));
     eprintln!(
         "refine: {} round(s), {} replicas in all ({} added); the full grid of the same resolution holds {} ({:.0} %); boundary in {}",
-        edmd_sweep::refine::rounds(&spec),
+        edmd_sweep::refine::rounds(spec),
         records.len(),
         spent,
         full,
         100.0 * records.len() as f64 / full.max(1) as f64,
         a.out.join("boundary.json").display()
     );
-    Ok(say_problems(&problems))
+    Ok(())
 }

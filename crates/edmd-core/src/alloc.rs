@@ -6,9 +6,7 @@
 //! every neighbour list (a stride of 64-byte multiples) straddle two cache lines, and an event
 //! that needs one line of each waits for two. [`LineAligned`] raises the alignment of every
 //! allocation of [`LARGE`] bytes or more to [`LINE`], so that such records each lie in one line
-//! (3D φ 0.45, alternating `edmd-bench` builds: N 1 000 188 1.14×, N 97 556 1.13×, N 10 976 1.03×;
-//! 2D N 10⁶, whose 48-byte records gain nothing from it, 0.98×: docs/benchmarks.md). The binaries
-//! of this project install it:
+//! (what it gains by size: docs/benchmarks.md). The binaries of this project install it:
 //!
 //! ```ignore
 //! #[global_allocator]
@@ -18,8 +16,7 @@
 //! Blocks of [`HUGE`] bytes or more (the per-particle arrays from N ≈ 10⁵ on) start on a 2 MiB
 //! boundary and are advised `MADV_HUGEPAGE` before their pages are touched, so that a kernel with
 //! transparent huge pages in `madvise` mode (the default of many distributions) backs them with
-//! 2 MiB pages: an event's random lines then rarely miss the TLB (2D N 10⁶ 1.08×, 3D N 1 000 188
-//! 1.07×: docs/benchmarks.md).
+//! 2 MiB pages: an event's random lines then rarely miss the TLB (docs/benchmarks.md).
 //!
 //! Without it the engine computes the same results, only slower for large systems.
 

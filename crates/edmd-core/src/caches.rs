@@ -3,19 +3,18 @@
 //! "Where the look-ahead pays, by state size").
 //!
 //! The L2 is read once from Linux's sysfs (`/sys/devices/system/cpu/cpu0/cache/index*/`); the L3 is
-//! not used, because virtual machines report sizes for it that the guest does not have (504 MiB on
-//! the project's machine, whose hints pay from 180 MB of state on and cost below 6 MB).
+//! not used, because virtual machines report L3 sizes the guest does not have.
 
 use std::sync::OnceLock;
 
-/// The look-ahead switches on above this many times the per-core L2: 64 MiB with a 2 MiB L2, where
-/// it was measured to cost 13 % at 5.4 MB of state, nothing at 18–38 MB and to gain 31 % at 180 MB.
+/// The look-ahead switches on above this many times the per-core L2 (64 MiB with a 2 MiB L2): below,
+/// its hints cost more than they save (docs/benchmarks.md, "Where the look-ahead pays").
 pub const LOOK_AHEAD_L2_MULTIPLE: usize = 32;
 
-/// The threshold where no L2 size can be read (other systems): the measured 64 MiB.
+/// The threshold where no L2 size can be read (other systems): that of a 2 MiB L2.
 pub const LOOK_AHEAD_FALLBACK: usize = 64 << 20;
 
-/// Bounds of the threshold, whatever a system reports: from 16 MiB (a 512 KiB L2) to 256 MiB.
+/// Bounds of the threshold, whatever a system reports (an absurd L2 size must not switch it).
 const LOOK_AHEAD_RANGE: (usize, usize) = (16 << 20, 256 << 20);
 
 /// Bytes of engine arrays above which the large-system look-ahead is on.
@@ -35,11 +34,8 @@ pub fn l2_or_fallback() -> usize {
 }
 
 /// The switches of cache-resident work (partner hints, deferred filings) turn on above this many
-/// times the per-core L2. At one L2 a 512 KiB L2 (AMD Zen 3) had them on at 2D φ 0.3 N 10⁴ and 3D
-/// φ 0.45 N 10 976, for 7 % and 13 % more instructions per collision and no gain in time (paired
-/// medians 0.997 and 1.009 with them off); at twice the L2 they stay off there and come on from
-/// N 2·10⁴, and on a 2 MiB L2 every measured case keeps its setting (docs/benchmarks.md, "The
-/// small-system switches at twice the L2").
+/// times the per-core L2: while the working set is cached they only add instructions
+/// (docs/benchmarks.md, "The small-system switches at twice the L2").
 pub const SWITCH_L2_MULTIPLE: usize = 2;
 
 /// The bytes above which a cache-resident switch turns on, for an L2 of `l2` bytes.
@@ -48,16 +44,15 @@ fn switch_for(l2: usize) -> usize {
 }
 
 /// Bytes of particle records above which list scans ask for their partners' records ahead: twice
-/// the L2. 3D φ 0.45 on a 2 MiB L2, the hints cost 5 % at N = 10 976 (0.7 MB of records) and gain
-/// 7 % at 97 556 (6.2 MB; docs/benchmarks.md, "The four-wide list scan").
+/// the L2, below which the records are cached anyway (docs/benchmarks.md, "The four-wide list
+/// scan").
 pub fn partner_hints_threshold() -> usize {
     switch_for(l2_or_fallback())
 }
 
 /// Bytes of calendar buckets and per-particle records (which hold the calendar entries) above which
 /// the Paul calendar defers its filings into later buckets: twice the L2. Below it the bucket lines
-/// are cached and deferring only adds work (2D φ 0.3 N 10⁴: 2795 → 2611 instructions per collision
-/// without it, 5 % faster; with it 14 % faster at N 10⁵; docs/benchmarks.md, "Deferral by size").
+/// are cached and deferring only adds work (docs/benchmarks.md, "Deferral by size").
 pub fn calendar_deferral_threshold() -> usize {
     switch_for(l2_or_fallback())
 }
@@ -115,8 +110,8 @@ mod tests {
         assert_eq!(parse_size(""), None);
     }
 
-    /// A 2 MiB L2 gives the 64 MiB measured on the project's machine; small and absurd L2 sizes
-    /// stay within the bounds; an unknown one falls back to 64 MiB.
+    /// A 2 MiB L2 gives 64 MiB; small and absurd L2 sizes stay within the bounds; an unknown one
+    /// falls back to 64 MiB.
     #[test]
     fn thresholds_follow_the_l2_within_bounds() {
         assert_eq!(threshold_for(Some(2 << 20)), 64 << 20);

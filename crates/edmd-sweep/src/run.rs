@@ -1,6 +1,7 @@
 //! Running a sweep: the replicas of a shard across a rayon pool, skipping finished ones, each replica
 //! written atomically as soon as it ends; progress goes to the caller's [`Progress`].
 
+use std::path::PathBuf;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Mutex;
 use std::time::Instant;
@@ -94,26 +95,19 @@ fn estimated_collisions(spec: &Spec, r: &Replica) -> u64 {
     (r.n as f64 * spec.stop.tau_max).ceil() as u64
 }
 
-/// Runs the replicas of `opts.shard` of `spec` into `out`.
-pub fn run_sweep(
+/// The replicas of `mine` still to run: those without a final file. A partial file is a replica that
+/// was in flight when a run died: redo it. A final file that cannot be used (a disk that filled, a
+/// copy cut short) is moved aside (returned with the reason) and redone too.
+fn unfinished<'a>(
     spec: &Spec,
     out: &OutDir,
-    opts: &RunOptions,
+    mine: &'a [Replica],
     progress: &dyn Progress,
-) -> Result<RunReport, SweepError> {
-    let start = Instant::now();
-    let shard = opts.shard.unwrap_or(Shard { k: 0, n: 1 });
-    let mine: Vec<Replica> = spec
-        .replicas()
-        .into_iter()
-        .filter(|r| shard.contains(r.index))
-        .collect();
-    // A partial file is a replica that was in flight when a run died: redo it. A final file that
-    // cannot be used (a disk that filled, a copy cut short) is moved aside and redone too.
+) -> Result<(Vec<&'a Replica>, Vec<(PathBuf, String)>), SweepError> {
     let hash = spec.hash();
     let mut set_aside = Vec::new();
     let mut todo: Vec<&Replica> = Vec::new();
-    for r in &mine {
+    for r in mine {
         let part = out.part_path(r);
         crate::files::remove_stale(&part)?;
         match out.state(r, &hash) {
@@ -131,6 +125,55 @@ pub fn run_sweep(
             }
         }
     }
+    Ok((todo, set_aside))
+}
+
+/// The status of this shard's replicas (those run now and those finished before), read back from
+/// the files, and those that did not end done; the index is written (and the records returned)
+/// once every replica of the sweep has a whole file.
+#[allow(clippy::type_complexity)]
+fn shard_records(
+    spec: &Spec,
+    out: &OutDir,
+    mine: &[Replica],
+) -> Result<(Option<Vec<Record>>, Vec<(Replica, Status, String)>), SweepError> {
+    let records = out.records(spec);
+    let problems = mine
+        .iter()
+        .filter_map(|r| {
+            let rec = &records[r.index];
+            matches!(
+                rec.status,
+                Status::Failed | Status::Collapsed | Status::Stalled | Status::Corrupt
+            )
+            .then(|| (r.clone(), rec.status, rec.message.clone()))
+        })
+        .collect();
+    let complete = records.iter().all(|r| r.status.has_file());
+    let records = if complete {
+        out.write_index(spec, &records)?;
+        Some(records)
+    } else {
+        None
+    };
+    Ok((records, problems))
+}
+
+/// Runs the replicas of `opts.shard` of `spec` into `out`.
+pub fn run_sweep(
+    spec: &Spec,
+    out: &OutDir,
+    opts: &RunOptions,
+    progress: &dyn Progress,
+) -> Result<RunReport, SweepError> {
+    let start = Instant::now();
+    let shard = opts.shard.unwrap_or(Shard { k: 0, n: 1 });
+    let mine: Vec<Replica> = spec
+        .replicas()
+        .into_iter()
+        .filter(|r| shard.contains(r.index))
+        .collect();
+    let (mut todo, set_aside) = unfinished(spec, out, &mine, progress)?;
     let threads = opts
         .threads
         .unwrap_or_else(available_threads)
@@ -188,27 +231,7 @@ pub fn run_sweep(
         return Err(e);
     }
 
-    // Status of this shard's replicas (those run now and those finished before), read back from
-    // the files; the index is written once every replica of the sweep has a whole file.
-    let records = out.records(spec);
-    let problems = mine
-        .iter()
-        .filter_map(|r| {
-            let rec = &records[r.index];
-            matches!(
-                rec.status,
-                Status::Failed | Status::Collapsed | Status::Stalled | Status::Corrupt
-            )
-            .then(|| (r.clone(), rec.status, rec.message.clone()))
-        })
-        .collect();
-    let complete = records.iter().all(|r| r.status.has_file());
-    let records = if complete {
-        out.write_index(spec, &records)?;
-        Some(records)
-    } else {
-        None
-    };
+    let (records, problems) = shard_records(spec, out, &mine)?;
     Ok(RunReport {
         in_shard: mine.len(),
         ran: n_todo,

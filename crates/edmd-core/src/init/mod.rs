@@ -116,9 +116,7 @@ impl<const D: usize> InitParams<D> {
             ..SimParams::for_density::<D>(self.packing_fraction())
         };
         // Large list-mode systems take a wider skin: there a list renewal's 3^D-cell gather misses
-        // the caches, so fewer renewals pay for the longer lists (3D φ 0.45 N 1 000 188: skin 0.7
-        // against 0.45 1.08–1.09× at 399 instead of 295 bytes per particle; at N 97 556 and
-        // 10 976 it is no faster; docs/benchmarks.md).
+        // the caches, so fewer renewals pay for the longer lists (docs/benchmarks.md).
         if params.neighbour_skin > 0.0 && self.n >= LARGE_LIST_N {
             params.neighbour_skin = LARGE_LIST_SKIN;
         }

@@ -60,10 +60,10 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     }
 
     /// Before the collision of slots `i` and `j`: in 2D cell mode (where the look-ahead is off)
-    /// the heads of both particles' neighbour cells, whose searches follow the collision (φ 0.3 on
-    /// a 512 KiB L2: N 10⁴ 0.980–1.034 in four runs, 3·10⁴ 1.036; in 3D, nine rows each, 0.974 at
-    /// φ 0.2 N 10⁴; docs/benchmarks.md, "What bounds 2D N 10⁴ here, and the pair's cell heads
-    /// asked for"); in list mode `j`'s list, which the prediction after it scans.
+    /// the heads of both particles' neighbour cells, whose searches follow the collision (2D only:
+    /// in 3D the nine rows cost more than they save; docs/benchmarks.md, "What bounds 2D N 10⁴
+    /// here, and the pair's cell heads asked for"); in list mode `j`'s list, which the prediction
+    /// after it scans.
     #[inline(always)]
     pub(super) fn hint_pair<S: Search>(&self, i: usize, j: usize) {
         if D == 2 && !S::LISTS && !self.look_ahead.on {
@@ -128,8 +128,8 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             return;
         };
         // The next particle's listed partners, whose records its prediction scans (its list was
-        // asked for when it reached the calendar's front): 3D φ 0.45 N 10⁶ 1.06× faster; at
-        // N 97 556 (records beyond the L2, look-ahead off) it gains nothing (docs/benchmarks.md).
+        // asked for when it reached the calendar's front); it pays only far beyond the caches.
+        // (docs/benchmarks.md).
         self.prefetch_listed(nl, next as usize);
         let e = &self.meta[next as usize].ev;
         if e.coll_t <= e.aux_t && e.partner != NONE {

@@ -124,16 +124,14 @@ impl SimParams {
 
     /// A cell factor that balances crossings against neighbour checks for a packing fraction `phi`.
     pub fn for_density<const D: usize>(phi: f64) -> Self {
-        // Measured (edmd-core/examples/profile): cells of one diameter are fastest at φ ≥ 0.3; dilute
-        // gases keep about 0.4 particles per cell, so crossings do not dominate.
+        // Cells of one diameter are fastest at φ ≥ 0.3; dilute gases keep about 0.4 particles per
+        // cell, so that crossings do not dominate (docs/benchmarks.md).
         let per_cell_volume = crate::geometry::ball_volume(D, 0.5);
         let side = (0.4 * per_cell_volume / phi.max(1e-12)).powf(1.0 / D as f64);
-        // Neighbour lists pay in dense 3D packings (measured at N = 10^4 with examples/profile, skin
-        // 0.45 against cells: φ = 0.35 1.00×, 0.4 1.12×, 0.45 1.4×, 0.5 1.65×). In 2D, cells win up
-        // to φ = 0.5 and lists gain at most ~10 % at 0.7-0.75. The skin: with the four-wide scans a
-        // partner costs less than a renewal's gather, and 0.65 takes the fewest instructions per
-        // collision (3D φ 0.45: 13 % fewer than 0.45 at N = 10 976, 8.5 % at 97 556; 0.55 and 0.75
-        // between; docs/benchmarks.md, "The four-wide list scan").
+        // Neighbour lists pay in dense 3D packings only (from φ ≈ 0.38; in 2D cells win). The
+        // skin: with the four-wide scans a partner costs less than a renewal's gather, and 0.65
+        // takes the fewest instructions per collision (docs/benchmarks.md, "The four-wide list
+        // scan").
         let neighbour_skin = if D == 3 && phi >= 0.38 { 0.65 } else { 0.0 };
         SimParams {
             cell_factor: side.max(1.0),

@@ -62,9 +62,8 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     pub(super) fn sort_by_cell(&mut self) {
         let n = self.particles.len();
         // List mode reads partners all around a particle through its list: the Z order keeps them
-        // near along every axis (3D φ 0.45 N 10⁶ 1.04–1.06× faster, 97 556 1.02×). Cell mode walks
-        // rows of cells, which the row-major order keeps contiguous (2D φ 0.3 N 10⁶ 0.95× in Z
-        // order); docs/benchmarks.md, "Slot order, one-line records and the partners ahead".
+        // near along every axis. Cell mode walks rows of cells, which the row-major order keeps
+        // contiguous (docs/benchmarks.md, "Slot order, one-line records and the partners ahead").
         let rank = self.uses_lists().then(|| z_order_ranks(&self.grid.n));
         let cells: Vec<u32> = self
             .meta

@@ -6,9 +6,8 @@
 //! instructions than the test itself (docs/benchmarks.md, "The 3D instruction budget by function").
 //! Here the partners' records are read into lanes for four partners at once, and the test runs on
 //! four lanes: in 3D, where a record is one line, by two 32-byte loads per partner and a 4×4
-//! transpose (AMD Zen 3 runs a gather as many µops: 3D φ 0.45 N 10 976 1.15–1.18× faster than six
-//! gathers, at the same instruction count; docs/benchmarks.md, "Sphere records by loads and a
-//! transpose"); in 2D by AVX2 gathers, one instruction per coordinate. Every lane computes exactly
+//! transpose (some processors microcode gathers; docs/benchmarks.md, "Sphere records by loads and
+//! a transpose"); in 2D by AVX2 gathers, one instruction per coordinate. Every lane computes exactly
 //! the operations of the portable test, in the same order and without fused multiply-adds, so it
 //! keeps exactly the same partners; those go through the same exact test
 //! ([`Simulation::consider`]) one by one in list order. Trajectories are bit-identical to the
@@ -86,7 +85,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             if D == 3 {
                 // Sphere records are one line each, [x y z vx | vy vz radius link]: two loads per
                 // partner and a 4×4 transpose give the same lanes as six gathers, in fewer µops
-                // where gathers are microcoded (AMD Zen).
+                // where gathers are microcoded.
                 let rec = |k: usize| base.add(group[k] as usize * words as usize);
                 let recs = [rec(0), rec(1), rec(2), rec(3)];
                 let [t0, t1, t2, t3] = pairs_of_lanes(recs, 0);

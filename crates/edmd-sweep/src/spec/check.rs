@@ -4,8 +4,8 @@
 use std::collections::HashSet;
 use std::fmt;
 
-use super::{close_packing, Density, Grid, OneOrMany, Remedy, Replica, RuleSpec, Spec};
-use crate::domain::{self, Domain, MAX_REPLICAS, MAX_SAMPLES};
+use super::{close_packing, Density, Grid, OneOrMany, Remedy, Replica, Spec};
+use crate::domain::{self, Domain, MAX_REPLICAS};
 use crate::SweepError;
 
 /// `field = value: reason` unless `value` lies in `domain`.
@@ -80,223 +80,22 @@ impl Spec {
 
     /// The checks of one grid, whose fields are named `{at}.eps` and so on.
     fn validate_grid(&self, g: &Grid, at: &str) -> Result<(), SweepError> {
-        let bad = |field: &str, value: &dyn fmt::Display, reason: &str| {
-            Err(SweepError::Spec(format!(
-                "{at}.{field} = {value}: {reason}"
-            )))
-        };
-        let within =
-            |field: &str, value: f64, d: &Domain| within(&format!("{at}.{field}"), value, d);
-        let axes: [(&str, usize); 4] = [
-            ("dim", g.dim.values().len()),
-            ("boundary", g.boundary.values().len()),
-            ("eps", g.eps.values().len()),
-            ("remedy", g.remedy.values().len()),
-        ];
-        for (field, len) in axes {
-            if len == 0 {
-                return bad(field, &"[]", "empty axis: the grid has no replicas");
-            }
-        }
-        no_duplicates(at, "dim", &g.dim)?;
-        no_duplicates(at, "boundary", &g.boundary)?;
-        no_duplicates(at, "eps", &g.eps)?;
-        no_duplicates(at, "remedy", &g.remedy)?;
-        if let Some(phi) = &g.phi {
-            no_duplicates(at, "phi", phi)?;
-        }
-        if let Some(side) = &g.box_len {
-            no_duplicates(at, "box", side)?;
-        }
-        if let Some(ns) = &g.n {
-            no_duplicates(at, "n", ns)?;
-        }
-        for d in g.dim.values() {
-            if d != 2 && d != 3 {
-                return bad("dim", &d, "dimension must be 2 or 3");
-            }
-        }
-        for e in g.eps.values() {
-            within("eps", e, &domain::RESTITUTION)?;
-        }
-        no_duplicates(at, "beta", &g.beta)?;
-        if g.beta.values().is_empty() {
-            return bad("beta", &"[]", "empty axis: the grid has no replicas");
-        }
-        for b in g.beta.values() {
-            within("beta", b, &domain::BETA)?;
-        }
-        if let Some(q) = g.inertia {
-            within("inertia", q, &domain::INERTIA)?;
-        }
+        grid_axes(g, at)?;
         self.validate_scene(g, at)?;
-        match (&g.n, g.phi.is_some() && g.box_len.is_some()) {
-            (Some(_), true) => {
-                return bad(
-                    "n",
-                    &"given",
-                    "omit n when both phi and box are given (N follows from them)",
-                )
-            }
-            (None, false) => {
-                return bad(
-                    "n",
-                    &"missing",
-                    "give n (or both phi and box, from which N follows)",
-                )
-            }
-            (Some(ns), false) => {
-                if ns.values().is_empty() {
-                    return bad("n", &"[]", "empty axis: the grid has no replicas");
-                }
-                for n in ns.values() {
-                    within("n", n as f64, &domain::N)?;
-                }
-            }
-            (None, true) => {}
-        }
-        within("seeds", g.seeds as f64, &domain::SEEDS)?;
-        if g.phi.is_none() && g.box_len.is_none() {
-            return bad("phi/box", &"neither", "give phi, box, or both");
-        }
-        if let Some(phi) = &g.phi {
-            let v = phi.values();
-            if v.is_empty() {
-                return bad("phi", &"[]", "empty axis: the grid has no replicas");
-            }
-            for p in v {
-                for d in g.dim.values() {
-                    if !(p > 0.0 && p < close_packing(d)) {
-                        return bad(
-                            "phi",
-                            &p,
-                            &format!(
-                                "packing fraction must lie in (0, {:.4}), the close packing in {d}D",
-                                close_packing(d)
-                            ),
-                        );
-                    }
-                }
-            }
-        }
-        if let Some(side) = &g.box_len {
-            let v = side.values();
-            if v.is_empty() {
-                return bad("box", &"[]", "empty axis: the grid has no replicas");
-            }
-            for l in v {
-                within("box", l, &domain::BOX)?;
-            }
-        }
-        for r in g.remedy.values() {
-            match r {
-                Remedy::None {} => {}
-                Remedy::Tc { tc } => within("remedy.tc", tc, &domain::TC)?,
-                Remedy::Rotation { theta_max_deg } => within(
-                    "remedy.theta_max_deg",
-                    theta_max_deg,
-                    &domain::THETA_MAX_DEG,
-                )?,
-            }
-        }
-        Ok(())
+        grid_density(g, at)?;
+        grid_remedies(g, at)
     }
 
     fn validate_rest(&self) -> Result<(), SweepError> {
-        let bad = |field: &str, value: &dyn fmt::Display, reason: &str| {
-            Err(SweepError::Spec(format!("{field} = {value}: {reason}")))
-        };
-        match self.rule {
-            RuleSpec::Constant {} => {}
-            RuleSpec::Threshold { delta, eps_low } => {
-                within("rule.delta", delta, &domain::DELTA)?;
-                within("rule.eps_low", eps_low, &domain::RESTITUTION)?;
-            }
-            RuleSpec::Thesis { v0 } => within("rule.v0", v0, &domain::V0)?,
-            RuleSpec::Viscoelastic { speed } => within("rule.speed", speed, &domain::SPEED)?,
-        }
-        if let Some(m) = self.init.melt_tau {
-            within("init.melt_tau", m, &domain::MELT_TAU)?;
-        }
-        let s = &self.stop;
-        within("stop.tau_max", s.tau_max, &domain::TAU_MAX)?;
-        if let Some(t) = s.temperature_ratio {
-            within("stop.temperature_ratio", t, &domain::TEMPERATURE_RATIO)?;
-        }
-        if s.classified && self.classify.is_none() {
-            return bad(
-                "stop.classified",
-                &true,
-                "needs a \"classify\" section (order parameters)",
-            );
-        }
-        if let Some(c) = &self.classify {
-            if let Some(g) = c.grid {
-                within("classify.grid", g as f64, &domain::CLASSIFY_GRID)?;
-            }
-            let t = &c.thresholds;
-            for (field, v) in [
-                ("classify.thresholds.haff_tau0", t.haff_tau0),
-                ("classify.thresholds.haff", t.haff),
-                ("classify.thresholds.kinetic_flow", t.kinetic_flow),
-                ("classify.thresholds.kinetic_density", t.kinetic_density),
-                ("classify.thresholds.shear_s_perp", t.shear_s_perp),
-                ("classify.thresholds.cluster_density", t.cluster_density),
-                ("classify.thresholds.cluster_f2x", t.cluster_f2x),
-                (
-                    "classify.thresholds.cluster_f2x_min_per_cell",
-                    t.cluster_f2x_min_per_cell,
-                ),
-                ("classify.thresholds.cluster_s_rho", t.cluster_s_rho),
-                ("classify.thresholds.settle_window", t.settle_window),
-            ] {
-                within(field, v, &domain::THRESHOLD)?;
-            }
-        }
-        if let Some(e) = self.samples.every {
-            within("samples.every", e, &domain::EVERY)?;
-        }
-        within("samples.log_from", self.samples.log_from, &domain::LOG_FROM)?;
-        for &t in &self.snapshots.at {
-            within("snapshots.at", t, &domain::SNAPSHOT_AT)?;
-        }
-        if let Some(e) = self.snapshots.every {
-            within("snapshots.every", e, &domain::EVERY)?;
-        }
-        within(
-            "snapshots.per_decade",
-            self.snapshots.per_decade as f64,
-            &domain::PER_DECADE,
-        )?;
-        within(
-            "snapshots.log_from",
-            self.snapshots.log_from,
-            &domain::LOG_FROM,
-        )?;
-        within(
-            "output.compression",
-            self.output.compression as f64,
-            &domain::COMPRESSION,
-        )?;
-        let samples = self.samples_per_replica();
-        if samples > MAX_SAMPLES as f64 {
-            let tau = self.stop.tau_max;
-            let snaps = &self.snapshots;
-            let field = match (self.samples.every, snaps.every) {
-                (_, Some(e)) if tau / e > 0.5 * samples => format!("snapshots.every = {e}"),
-                (Some(e), _) if tau / e > 0.5 * samples => format!("samples.every = {e}"),
-                _ if snaps.count_to(tau) > 0.5 * samples => {
-                    format!("snapshots.per_decade = {}", snaps.per_decade)
-                }
-                _ => format!("samples.per_decade = {}", self.samples.per_decade),
-            };
-            return Err(SweepError::Spec(format!(
-                "{field}: {samples:.3e} samples per replica (to tau_max = {}), more than the {MAX_SAMPLES} a replica may hold",
-                self.stop.tau_max
-            )));
-        }
-        // Every replica's box must hold a cell list and its start must be reachable; grid points
-        // must not repeat across grids.
+        self.rule_and_stop()?;
+        self.classify_section()?;
+        self.sampling()?;
+        self.every_replica()
+    }
+
+    /// Every replica's box must hold a cell list and its start must be reachable; grid points must
+    /// not repeat across grids.
+    fn every_replica(&self) -> Result<(), SweepError> {
         let mut seen: HashSet<String> = HashSet::new();
         let mut first_of: Vec<(String, usize)> = Vec::new();
         for r in self.replicas() {
@@ -318,6 +117,148 @@ impl Spec {
         }
         Ok(())
     }
+}
+
+/// The error of `{at}.{field} = {value}: {reason}`.
+pub(super) fn bad(
+    at: &str,
+    field: &str,
+    value: &dyn fmt::Display,
+    reason: &str,
+) -> Result<(), SweepError> {
+    Err(SweepError::Spec(format!(
+        "{at}.{field} = {value}: {reason}"
+    )))
+}
+
+/// The grid's own axes: none empty or repeating, dimensions 2 or 3, ε, β and the inertia factor in
+/// their domains.
+fn grid_axes(g: &Grid, at: &str) -> Result<(), SweepError> {
+    let axes: [(&str, usize); 4] = [
+        ("dim", g.dim.values().len()),
+        ("boundary", g.boundary.values().len()),
+        ("eps", g.eps.values().len()),
+        ("remedy", g.remedy.values().len()),
+    ];
+    for (field, len) in axes {
+        if len == 0 {
+            return bad(at, field, &"[]", "empty axis: the grid has no replicas");
+        }
+    }
+    no_duplicates(at, "dim", &g.dim)?;
+    no_duplicates(at, "boundary", &g.boundary)?;
+    no_duplicates(at, "eps", &g.eps)?;
+    no_duplicates(at, "remedy", &g.remedy)?;
+    if let Some(phi) = &g.phi {
+        no_duplicates(at, "phi", phi)?;
+    }
+    if let Some(side) = &g.box_len {
+        no_duplicates(at, "box", side)?;
+    }
+    if let Some(ns) = &g.n {
+        no_duplicates(at, "n", ns)?;
+    }
+    for d in g.dim.values() {
+        if d != 2 && d != 3 {
+            return bad(at, "dim", &d, "dimension must be 2 or 3");
+        }
+    }
+    for e in g.eps.values() {
+        within(&format!("{at}.eps"), e, &domain::RESTITUTION)?;
+    }
+    no_duplicates(at, "beta", &g.beta)?;
+    if g.beta.values().is_empty() {
+        return bad(at, "beta", &"[]", "empty axis: the grid has no replicas");
+    }
+    for b in g.beta.values() {
+        within(&format!("{at}.beta"), b, &domain::BETA)?;
+    }
+    if let Some(q) = g.inertia {
+        within(&format!("{at}.inertia"), q, &domain::INERTIA)?;
+    }
+    Ok(())
+}
+
+/// The grid's N, φ and box side (two of the three), and its seeds.
+fn grid_density(g: &Grid, at: &str) -> Result<(), SweepError> {
+    match (&g.n, g.phi.is_some() && g.box_len.is_some()) {
+        (Some(_), true) => {
+            return bad(
+                at,
+                "n",
+                &"given",
+                "omit n when both phi and box are given (N follows from them)",
+            )
+        }
+        (None, false) => {
+            return bad(
+                at,
+                "n",
+                &"missing",
+                "give n (or both phi and box, from which N follows)",
+            )
+        }
+        (Some(ns), false) => {
+            if ns.values().is_empty() {
+                return bad(at, "n", &"[]", "empty axis: the grid has no replicas");
+            }
+            for n in ns.values() {
+                within(&format!("{at}.n"), n as f64, &domain::N)?;
+            }
+        }
+        (None, true) => {}
+    }
+    within(&format!("{at}.seeds"), g.seeds as f64, &domain::SEEDS)?;
+    if g.phi.is_none() && g.box_len.is_none() {
+        return bad(at, "phi/box", &"neither", "give phi, box, or both");
+    }
+    if let Some(phi) = &g.phi {
+        let v = phi.values();
+        if v.is_empty() {
+            return bad(at, "phi", &"[]", "empty axis: the grid has no replicas");
+        }
+        for p in v {
+            for d in g.dim.values() {
+                if !(p > 0.0 && p < close_packing(d)) {
+                    return bad(
+                        at,
+                        "phi",
+                        &p,
+                        &format!(
+                            "packing fraction must lie in (0, {:.4}), the close packing in {d}D",
+                            close_packing(d)
+                        ),
+                    );
+                }
+            }
+        }
+    }
+    if let Some(side) = &g.box_len {
+        let v = side.values();
+        if v.is_empty() {
+            return bad(at, "box", &"[]", "empty axis: the grid has no replicas");
+        }
+        for l in v {
+            within(&format!("{at}.box"), l, &domain::BOX)?;
+        }
+    }
+    Ok(())
+}
+
+/// The remedies' parameters.
+fn grid_remedies(g: &Grid, at: &str) -> Result<(), SweepError> {
+    for r in g.remedy.values() {
+        match r {
+            Remedy::None {} => {}
+            Remedy::Tc { tc } => within(&format!("{at}.remedy.tc"), tc, &domain::TC)?,
+            Remedy::Rotation { theta_max_deg } => within(
+                &format!("{at}.remedy.theta_max_deg"),
+                theta_max_deg,
+                &domain::THETA_MAX_DEG,
+            )?,
+        }
+    }
+    Ok(())
 }
 
 /// A name that is safe as one path component: `[A-Za-z0-9_-][A-Za-z0-9._-]{0,99}`.

@@ -1,19 +1,10 @@
 //! Checks of a grid's scene: gravity, wall restitution, a thermal floor, the box's aspect and the
 //! species of a mixture. Errors name the field (`grid.gravity = [0.1]: …`).
 
-use std::fmt;
-
-use super::check::{no_duplicates, within};
+use super::check::{bad, no_duplicates, within};
 use super::{AspectAxis, BoundaryKind, Grid, Remedy, RuleSpec, Spec, SpeciesAxis};
 use crate::domain;
 use crate::SweepError;
-
-/// The error of `{at}.{field} = {value}: {reason}`.
-fn bad(at: &str, field: &str, value: &dyn fmt::Display, reason: &str) -> Result<(), SweepError> {
-    Err(SweepError::Spec(format!(
-        "{at}.{field} = {value}: {reason}"
-    )))
-}
 
 impl Spec {
     /// The scene checks of one grid, whose fields are named `{at}.gravity` and so on.

@@ -305,39 +305,10 @@ impl Spec {
         for dim in g.dim.values() {
             let inertia = g.inertia.unwrap_or(if dim == 2 { 0.5 } else { 0.4 });
             for mixture in &mixtures {
-                // The mean grain volume: v₁ for one species, Σ x_k v(σ_k) for a mixture.
-                let v_mean = match mixture {
-                    None => ball_volume(dim),
-                    Some(m) => m
-                        .iter()
-                        .map(|s| {
-                            s.fraction * edmd_core::geometry::ball_volume(dim, 0.5 * s.diameter)
-                        })
-                        .sum(),
-                };
+                let v_mean = mean_grain_volume(dim, mixture.as_ref());
                 for aspect in &aspects {
                     let aspect_volume: f64 = aspect.as_ref().map_or(1.0, |a| a.iter().product());
-                    // (N, box) pairs: N × φ, N × L, or N = round(φ L^D Π aspect / v̄) for φ × L.
-                    let pairs: Vec<(usize, Density)> = match (phis.is_empty(), sides.is_empty()) {
-                        (false, true) => ns
-                            .iter()
-                            .flat_map(|&n| phis.iter().map(move |&p| (n, Density::Phi(p))))
-                            .collect(),
-                        (true, false) => ns
-                            .iter()
-                            .flat_map(|&n| sides.iter().map(move |&l| (n, Density::Side(l))))
-                            .collect(),
-                        _ => phis
-                            .iter()
-                            .flat_map(|&p| {
-                                sides.iter().map(move |&l| {
-                                    let n =
-                                        (p * l.powi(dim as i32) * aspect_volume / v_mean).round();
-                                    ((n as usize).max(2), Density::Side(l))
-                                })
-                            })
-                            .collect(),
-                    };
+                    let pairs = size_pairs(&ns, &phis, &sides, dim, (aspect_volume, v_mean));
                     for boundary in g.boundary.values() {
                         for remedy in g.remedy.values() {
                             for &(n, density) in &pairs {
@@ -432,5 +403,46 @@ impl Shard {
     /// Whether the shard runs replica `index`.
     pub fn contains(&self, index: usize) -> bool {
         index % self.n == self.k
+    }
+}
+
+/// The mean grain volume: v₁ for one species, Σ x_k v(σ_k) for a mixture.
+fn mean_grain_volume(dim: usize, mixture: Option<&Mixture>) -> f64 {
+    match mixture {
+        None => ball_volume(dim),
+        Some(m) => m
+            .iter()
+            .map(|s| s.fraction * edmd_core::geometry::ball_volume(dim, 0.5 * s.diameter))
+            .sum(),
+    }
+}
+
+/// The (N, box) pairs of a grid: N × φ, N × L, or N = round(φ L^D Π aspect / v̄) for φ × L, from
+/// the aspect's volume Π aspect and the mean grain volume v̄.
+fn size_pairs(
+    ns: &[usize],
+    phis: &[f64],
+    sides: &[f64],
+    dim: usize,
+    (aspect_volume, v_mean): (f64, f64),
+) -> Vec<(usize, Density)> {
+    match (phis.is_empty(), sides.is_empty()) {
+        (false, true) => ns
+            .iter()
+            .flat_map(|&n| phis.iter().map(move |&p| (n, Density::Phi(p))))
+            .collect(),
+        (true, false) => ns
+            .iter()
+            .flat_map(|&n| sides.iter().map(move |&l| (n, Density::Side(l))))
+            .collect(),
+        _ => phis
+            .iter()
+            .flat_map(|&p| {
+                sides.iter().map(move |&l| {
+                    let n = (p * l.powi(dim as i32) * aspect_volume / v_mean).round();
+                    ((n as usize).max(2), Density::Side(l))
+                })
+            })
+            .collect(),
     }
 }

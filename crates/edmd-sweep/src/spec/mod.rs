@@ -14,6 +14,7 @@ mod boundary;
 mod check;
 mod check_rule;
 mod check_scene;
+mod check_sections;
 mod dup_keys;
 mod expand;
 mod one_or_many;
