@@ -234,6 +234,53 @@ fn main() {
     }
 }
 
+/// `--matrix`: every D, N up to `--max-n` and φ of the matrix, elastic, one line each.
+fn run_matrix(
+    args: &Args,
+    repeats: usize,
+    per: Option<f64>,
+    melt_tau: f64,
+    look_ahead: Option<bool>,
+) -> Result<(), String> {
+    let max_n = args.max_n;
+    println!(
+        "{:>2} {:>8} {:>5} {:>5} {:>14} {:>8} {:>10}",
+        "D", "N", "phi", "eps", "collisions/s", "spread", "bytes/N"
+    );
+    for d in [2usize, 3] {
+        let phis: &[f64] = if d == 2 {
+            &[0.05, 0.3, 0.5, 0.7]
+        } else {
+            &[0.05, 0.3, 0.45]
+        };
+        for n in [1_000usize, 10_000, 100_000, 1_000_000]
+            .into_iter()
+            .filter(|&n| n <= max_n)
+        {
+            for &phi in phis {
+                let case = Case {
+                    d,
+                    n,
+                    phi,
+                    eps: 1.0,
+                    shear_rate: args.shear_rate,
+                    look_ahead,
+                    portable: args.portable_scan,
+                };
+                let o = run_case(&case, repeats, per, melt_tau)?;
+                println!(
+                    "{d:>2} {n:>8} {phi:>5} {:>5} {:>14.0} {:>7.1}% {:>10.1}",
+                    1.0,
+                    o.median,
+                    100.0 * o.spread,
+                    o.bytes_per_particle
+                );
+            }
+        }
+    }
+    Ok(())
+}
+
 fn real_main(args: Args) -> Result<(), String> {
     let repeats = args.repeats;
     if repeats == 0 {
@@ -250,43 +297,7 @@ fn real_main(args: Args) -> Result<(), String> {
         _ => None,
     };
     if args.matrix {
-        let max_n = args.max_n;
-        println!(
-            "{:>2} {:>8} {:>5} {:>5} {:>14} {:>8} {:>10}",
-            "D", "N", "phi", "eps", "collisions/s", "spread", "bytes/N"
-        );
-        for d in [2usize, 3] {
-            let phis: &[f64] = if d == 2 {
-                &[0.05, 0.3, 0.5, 0.7]
-            } else {
-                &[0.05, 0.3, 0.45]
-            };
-            for n in [1_000usize, 10_000, 100_000, 1_000_000]
-                .into_iter()
-                .filter(|&n| n <= max_n)
-            {
-                for &phi in phis {
-                    let case = Case {
-                        d,
-                        n,
-                        phi,
-                        eps: 1.0,
-                        shear_rate: args.shear_rate,
-                        look_ahead,
-                        portable: args.portable_scan,
-                    };
-                    let o = run_case(&case, repeats, per, melt_tau)?;
-                    println!(
-                        "{d:>2} {n:>8} {phi:>5} {:>5} {:>14.0} {:>7.1}% {:>10.1}",
-                        1.0,
-                        o.median,
-                        100.0 * o.spread,
-                        o.bytes_per_particle
-                    );
-                }
-            }
-        }
-        return Ok(());
+        return run_matrix(&args, repeats, per, melt_tau, look_ahead);
     }
     let case = Case {
         d: args.d,

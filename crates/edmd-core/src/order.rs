@@ -96,6 +96,29 @@ pub fn order_parameters<const D: usize>(
     let f_2x = dense as f64 / n as f64;
     // Structure factors at the smallest wavevector of each axis.
     let temperature_m = 2.0 * kinetic / (D as f64 * n as f64); // T (with the masses folded in)
+    let (s_perp, s_rho) =
+        structure_factors(positions, velocities, masses, box_len, walls, temperature_m);
+    OrderParameters {
+        f_flow,
+        s_perp,
+        delta_rho2,
+        f_2x,
+        s_rho,
+    }
+}
+
+/// The largest transverse-momentum (S⊥) and density structure factors at the smallest wavevector
+/// of each axis (sine and cosine modes along walled axes, plane waves along periodic ones);
+/// `temperature_m` is T with the masses folded in.
+fn structure_factors<const D: usize>(
+    positions: &[Vector<D>],
+    velocities: &[Vector<D>],
+    masses: &[f64],
+    box_len: &Vector<D>,
+    walls: [bool; D],
+    temperature_m: f64,
+) -> (f64, f64) {
+    let n = positions.len();
     let mut s_perp: f64 = 0.0;
     let mut s_rho: f64 = 0.0;
     for a in 0..D {
@@ -132,13 +155,7 @@ pub fn order_parameters<const D: usize>(
             }
         }
     }
-    OrderParameters {
-        f_flow,
-        s_perp,
-        delta_rho2,
-        f_2x,
-        s_rho,
-    }
+    (s_perp, s_rho)
 }
 
 #[cfg(test)]

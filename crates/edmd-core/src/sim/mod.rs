@@ -28,6 +28,7 @@ use crate::nlist::NeighbourLists;
 use crate::{Boundary, CollisionRule, EdmdError, Particle, ParticleInit, Vector};
 
 mod cell_search;
+mod checks;
 mod collapse;
 mod contact;
 mod cooling;
@@ -277,107 +278,9 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         params: SimParams,
     ) -> Result<Self, EdmdError> {
         let n = particles.len();
-        if n == 0 {
-            return Err(EdmdError::invalid("N", 0, "need at least one particle"));
-        }
-        if n >= NONE as usize {
-            return Err(EdmdError::invalid("N", n, "at most 2^32 − 2 particles"));
-        }
-        for a in 0..D {
-            if !(box_len[a] > 0.0 && box_len[a].is_finite()) {
-                return Err(EdmdError::invalid(
-                    crate::error::AXIS_NAMES[a],
-                    box_len[a],
-                    "box side must be positive and finite",
-                ));
-            }
-        }
-        params.validate()?;
-        if params.gravity != 0.0 && !B::GRAVITY {
-            return Err(EdmdError::invalid(
-                "gravity",
-                params.gravity,
-                "this scene has no gravity: use a GravityAxes scene",
-            ));
-        }
-        if params.shear_rate != 0.0 && !B::SHEARED {
-            return Err(EdmdError::invalid(
-                "shear_rate",
-                params.shear_rate,
-                "this scene is not sheared: use the LeesEdwards scene",
-            ));
-        }
-        if params.floor_temperature > 0.0 && !B::is_wall(D - 1) {
-            return Err(EdmdError::invalid(
-                "floor_temperature",
-                params.floor_temperature,
-                "a thermal floor needs walls on the last axis",
-            ));
-        }
-        if B::GRAVITY && !B::is_wall(D - 1) {
-            return Err(EdmdError::invalid(
-                "scene",
-                B::NAME,
-                "gravity needs walls (a floor) on the last axis",
-            ));
-        }
-        let mut max_d: f64 = 0.0;
-        for (i, p) in particles.iter().enumerate() {
-            if !(p.radius > 0.0 && p.radius.is_finite()) {
-                return Err(EdmdError::invalid(
-                    "radius",
-                    p.radius,
-                    format!("particle {i}: radius must be positive"),
-                ));
-            }
-            if !(p.mass > 0.0 && p.mass.is_finite()) {
-                return Err(EdmdError::invalid(
-                    "mass",
-                    p.mass,
-                    format!("particle {i}: mass must be positive"),
-                ));
-            }
-            for a in 0..D {
-                let (lo, hi) = if B::is_wall(a) {
-                    (p.radius, box_len[a] - p.radius)
-                } else {
-                    (0.0, box_len[a])
-                };
-                let x = p.pos[a];
-                if !(x >= lo && x <= hi) || (!B::is_wall(a) && x >= hi) {
-                    return Err(EdmdError::invalid(
-                        "position",
-                        x,
-                        format!("particle {i}, axis {a}: outside [{lo}, {hi}]"),
-                    ));
-                }
-                if !p.vel[a].is_finite() {
-                    return Err(EdmdError::invalid(
-                        "velocity",
-                        p.vel[a],
-                        format!("particle {i}: not finite"),
-                    ));
-                }
-            }
-            max_d = max_d.max(2.0 * p.radius);
-        }
-        let skin = params.neighbour_skin * max_d;
-        // Sheared boxes need four distinct columns across the sliding faces (`sim/lists.rs`).
-        let list_grid = (skin > 0.0 && !B::GRAVITY)
-            .then(|| CellGrid::new(&box_len, max_d + skin, max_d * params.cell_factor).ok())
-            .flatten()
-            .filter(|g| !B::SHEARED || g.n[0] >= 4);
-        let (grid, nl) = match list_grid {
-            Some(g) => {
-                let mut nl = NeighbourLists::new(n, skin, max_d);
-                nl.same_radius = particles.iter().all(|p| p.radius == particles[0].radius);
-                (g, Some(nl))
-            }
-            None => (
-                CellGrid::new(&box_len, max_d, max_d * params.cell_factor)?,
-                None,
-            ),
-        };
+        checks::scene::<D, B>(n, &box_len, &params)?;
+        let max_d = checks::particles::<D, B>(&particles, &box_len)?;
+        let (grid, nl) = neighbour_search::<D, B>(&box_len, &particles, &params, max_d)?;
         let meta = particles
             .iter()
             .enumerate()
@@ -485,4 +388,31 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             _boundary: PhantomData,
         }
     }
+}
+
+/// The cell grid and, where the scene and density call for them, the neighbour lists: lists with
+/// their own grid of cells of side σ + δ, or cells of one diameter.
+fn neighbour_search<const D: usize, B: Boundary>(
+    box_len: &Vector<D>,
+    particles: &[ParticleInit<D>],
+    params: &SimParams,
+    max_d: f64,
+) -> Result<(CellGrid<D>, Option<NeighbourLists<D>>), EdmdError> {
+    let skin = params.neighbour_skin * max_d;
+    // Sheared boxes need four distinct columns across the sliding faces (`sim/lists.rs`).
+    let list_grid = (skin > 0.0 && !B::GRAVITY)
+        .then(|| CellGrid::new(box_len, max_d + skin, max_d * params.cell_factor).ok())
+        .flatten()
+        .filter(|g| !B::SHEARED || g.n[0] >= 4);
+    Ok(match list_grid {
+        Some(g) => {
+            let mut nl = NeighbourLists::new(particles.len(), skin, max_d);
+            nl.same_radius = particles.iter().all(|p| p.radius == particles[0].radius);
+            (g, Some(nl))
+        }
+        None => (
+            CellGrid::new(box_len, max_d, max_d * params.cell_factor)?,
+            None,
+        ),
+    })
 }

@@ -132,6 +132,32 @@ impl RoughSonine {
         }
     }
 
+    /// The collision law of PHYSICS.md §6.5 for equal grains along n = x̂: the impulse on grain 1
+    /// and the spin change of each, for relative velocity `g` and spins `w1`, `w2`.
+    #[inline]
+    fn kick(
+        &self,
+        g: [f64; 3],
+        (w1, w2): ([f64; 3], [f64; 3]),
+        (radius, inertia, mu_t): (f64, f64, f64),
+    ) -> ([f64; 3], [f64; 3]) {
+        let n = [1.0, 0.0, 0.0];
+        let wxn = cross([w1[0] + w2[0], w1[1] + w2[1], w1[2] + w2[2]], n);
+        let gc = [
+            g[0] - radius * wxn[0],
+            g[1] - radius * wxn[1],
+            g[2] - radius * wxn[2],
+        ];
+        let gt = [0.0, gc[1], gc[2]];
+        let imp = [
+            -(1.0 + self.eps) * 0.5 * gc[0],
+            -(1.0 + self.beta) * mu_t * gt[1],
+            -(1.0 + self.beta) * mu_t * gt[2],
+        ];
+        let tw = cross([-radius, 0.0, 0.0], imp);
+        (imp, [tw[0] / inertia, tw[1] / inertia, tw[2] / inertia])
+    }
+
     /// The Monte Carlo sums at ratio θ (T = 1, R = θ; m = 1, σ = 1, I = q/4).
     fn moments(&self, theta: f64) -> Moments {
         let (d, dr) = (self.d as f64, self.rotational_dof());
@@ -199,22 +225,7 @@ impl RoughSonine {
                 .into_iter()
                 .take(folds)
             {
-                // The collision law of PHYSICS.md §6.5 (equal grains).
-                let n = [1.0, 0.0, 0.0];
-                let wxn = cross([w1[0] + w2[0], w1[1] + w2[1], w1[2] + w2[2]], n);
-                let gc = [
-                    g[0] - radius * wxn[0],
-                    g[1] - radius * wxn[1],
-                    g[2] - radius * wxn[2],
-                ];
-                let gt = [0.0, gc[1], gc[2]];
-                let imp = [
-                    -(1.0 + self.eps) * 0.5 * gc[0],
-                    -(1.0 + self.beta) * mu_t * gt[1],
-                    -(1.0 + self.beta) * mu_t * gt[2],
-                ];
-                let tw = cross([-radius, 0.0, 0.0], imp);
-                let dw = [tw[0] / inertia, tw[1] / inertia, tw[2] / inertia];
+                let (imp, dw) = self.kick(g, (w1, w2), (radius, inertia, mu_t));
                 let add = |a: [f64; 3], b: [f64; 3], s: f64| {
                     [a[0] + s * b[0], a[1] + s * b[1], a[2] + s * b[2]]
                 };
