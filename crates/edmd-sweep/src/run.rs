@@ -83,12 +83,18 @@ pub struct RunReport {
     /// The index records of the whole sweep, when every replica is finished (else `None`).
     pub records: Option<Vec<Record>>,
     /// Replicas of this shard that failed or collapsed: (replica, status, message).
-    pub problems: Vec<(Replica, Status, String)>,
+    pub problems: Problems,
     /// Corrupt final files found and moved aside (their replicas were run again): (new path, why).
-    pub set_aside: Vec<(std::path::PathBuf, String)>,
+    pub set_aside: SetAside,
     /// Threads used.
     pub threads: usize,
 }
+
+/// Final files found unusable and moved aside: where each went, and why.
+pub type SetAside = Vec<(PathBuf, String)>;
+
+/// Replicas that did not end done: the replica, its status and its message.
+pub type Problems = Vec<(Replica, Status, String)>;
 
 /// Rough cost of a replica in pair collisions, for scheduling and the progress bar.
 fn estimated_collisions(spec: &Spec, r: &Replica) -> u64 {
@@ -103,7 +109,7 @@ fn unfinished<'a>(
     out: &OutDir,
     mine: &'a [Replica],
     progress: &dyn Progress,
-) -> Result<(Vec<&'a Replica>, Vec<(PathBuf, String)>), SweepError> {
+) -> Result<(Vec<&'a Replica>, SetAside), SweepError> {
     let hash = spec.hash();
     let mut set_aside = Vec::new();
     let mut todo: Vec<&Replica> = Vec::new();
@@ -131,12 +137,11 @@ fn unfinished<'a>(
 /// The status of this shard's replicas (those run now and those finished before), read back from
 /// the files, and those that did not end done; the index is written (and the records returned)
 /// once every replica of the sweep has a whole file.
-#[allow(clippy::type_complexity)]
 fn shard_records(
     spec: &Spec,
     out: &OutDir,
     mine: &[Replica],
-) -> Result<(Option<Vec<Record>>, Vec<(Replica, Status, String)>), SweepError> {
+) -> Result<(Option<Vec<Record>>, Problems), SweepError> {
     let records = out.records(spec);
     let problems = mine
         .iter()

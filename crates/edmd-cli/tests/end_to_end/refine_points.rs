@@ -4,21 +4,12 @@
 
 use std::path::Path;
 
-use crate::common::{run, write};
+use crate::common::{run, run_spec};
 
 /// Runs `spec` into `dir/name` (exit 0), then refines it `rounds` rounds; returns the refinement's
 /// output.
 fn refined(dir: &Path, name: &str, spec: &str, rounds: &str) -> std::process::Output {
-    let s = write(dir, &format!("{name}.json"), spec);
-    let out = dir.join(name);
-    let o = run(&[
-        "run",
-        s.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-        "-q",
-    ]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let out = run_spec(dir, name, spec);
     run(&["refine", out.to_str().unwrap(), "--rounds", rounds, "-q"])
 }
 
@@ -74,16 +65,7 @@ fn axes_named_twice_and_empty_rounds_are_refused() {
     let tmp = tempfile::tempdir().unwrap();
     let spec = r#"{"name": "twice", "grid": {"eps": [0.7, 0.98], "phi": 0.25, "box": [20, 40]},
         "classify": {}, "stop": {"tau_max": 50}}"#;
-    let s = write(tmp.path(), "twice.json", spec);
-    let out = tmp.path().join("twice");
-    let o = run(&[
-        "run",
-        s.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-        "-q",
-    ]);
-    assert!(o.status.success());
+    let out = run_spec(tmp.path(), "twice", spec);
     let before = std::fs::read_to_string(out.join("spec.json")).unwrap();
     let o = out.to_str().unwrap();
     for (args, says) in [
