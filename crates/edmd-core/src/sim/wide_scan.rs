@@ -49,8 +49,6 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         let mut limit = smaller(best.0 - now, horizon - now);
         let words = (std::mem::size_of::<Particle<D>>() / 8) as i32;
         let base = self.particles.as_ptr().cast::<f64>();
-        // Offsets, in words, of the fields of a record (`Particle` is `repr(C)`).
-        let (r0_at, vel_at, radius_at) = (0, D, 2 * D);
         // SAFETY (all intrinsics below): AVX2 is enabled by the caller's contract; the loads and
         // gathers read within the records of the padded list's entries, all slots (below n, whose
         // word offsets fit an i32 by the contract; a 3D record is the eight words the two loads
@@ -59,7 +57,6 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         let ri = _mm256_set1_pd(pi.radius);
         let ri2 = _mm256_set1_pd(pi.radius + pi.radius);
         let mut factor = _mm256_set1_pd(bound_factor(limit));
-        let sign = _mm256_set1_pd(-0.0);
         let zero = _mm256_setzero_pd();
         let stride = _mm_set1_epi32(words);
         let own: [Image; D] =
@@ -69,67 +66,17 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         for group in nl.of_padded(i).chunks_exact(LANES) {
             let slots = _mm_loadu_si128(group.as_ptr().cast::<__m128i>());
             let at = _mm_mullo_epi32(slots, stride);
-            let mut b = zero;
-            let mut dr2 = zero;
-            let mut across = zero;
-            // Separation, relative velocity and the partner's velocity per axis, for the exact times.
-            // The separation and the relative velocity are taken partner minus own, the negatives
-            // of `pair_time`'s, exactly (x − y = −(y − x) in floating point): every product of two
-            // of them, and so b, |r|² and the exact time, is the same to the bit, and the own
-            // values can be read from memory by the subtraction itself.
-            let mut ds = [zero; D];
-            let mut dvs = [zero; D];
-            let mut vels = [zero; D];
-            let mut r0s = [zero; D];
-            let mut radii = zero;
-            if D == 3 {
-                // Sphere records are one line each, [x y z vx | vy vz radius link]: two loads per
-                // partner and a 4×4 transpose give the same lanes as six gathers, in fewer µops
-                // where gathers are microcoded.
-                let rec = |k: usize| base.add(group[k] as usize * words as usize);
-                let recs = [rec(0), rec(1), rec(2), rec(3)];
-                let [t0, t1, t2, t3] = pairs_of_lanes(recs, 0);
-                r0s[0] = _mm256_permute2f128_pd::<0x20>(t0, t2);
-                r0s[2] = _mm256_permute2f128_pd::<0x31>(t0, t2);
-                r0s[1] = _mm256_permute2f128_pd::<0x20>(t1, t3);
-                vels[0] = _mm256_permute2f128_pd::<0x31>(t1, t3);
-                let [u0, u1, u2, u3] = pairs_of_lanes(recs, 4);
-                vels[1] = _mm256_permute2f128_pd::<0x20>(u0, u2);
-                vels[2] = _mm256_permute2f128_pd::<0x20>(u1, u3);
-                if !SAME {
-                    radii = _mm256_permute2f128_pd::<0x31>(u0, u2);
-                }
-            } else {
-                for a in 0..D {
-                    r0s[a] = _mm256_i32gather_pd::<8>(base.add(r0_at + a), at);
-                    vels[a] = _mm256_i32gather_pd::<8>(base.add(vel_at + a), at);
-                }
-                if !SAME {
-                    radii = _mm256_i32gather_pd::<8>(base.add(radius_at), at);
-                }
-            }
-            for a in 0..D {
-                let (r0, vel) = (r0s[a], vels[a]);
-                let pos = _mm256_add_pd(r0, _mm256_mul_pd(vel, now_v));
-                let d = if WRAP && !B::is_wall(a) {
-                    if SHEAR && a == 1 {
-                        let raw = _mm256_andnot_pd(sign, _mm256_sub_pd(own[a].at, pos));
-                        across = _mm256_cmp_pd::<_CMP_GT_OQ>(raw, own[a].half);
-                    }
-                    own[a].separation_from(pos)
-                } else {
-                    _mm256_sub_pd(pos, own[a].at)
-                };
-                let dv = _mm256_sub_pd(vel, _mm256_set1_pd(pi.vel[a]));
-                (ds[a], dvs[a], vels[a]) = (d, dv, vel);
-                if a == 0 {
-                    b = _mm256_mul_pd(d, dv);
-                    dr2 = _mm256_mul_pd(d, d);
-                } else {
-                    b = _mm256_add_pd(b, _mm256_mul_pd(d, dv));
-                    dr2 = _mm256_add_pd(dr2, _mm256_mul_pd(d, d));
-                }
-            }
+            let (mut r0s, mut vels, mut radii) = ([zero; D], [zero; D], zero);
+            group_lanes::<D, SAME>(base, group, at, words, (&mut r0s, &mut vels, &mut radii));
+            // Separation, relative velocity and the partner's velocity per axis, for the exact
+            // times; b = r·v and |r|²; in a sheared box whether the pair lies across a sliding face.
+            let Lanes {
+                ds,
+                dvs,
+                b,
+                dr2,
+                across,
+            } = separations::<D, B, WRAP, SHEAR>(&r0s, &vels, &own, now_v, &pi.vel);
             // Where every radius is `i`'s, σ is `i`'s two radii for every partner, to the bit.
             let sigma = if SAME { ri2 } else { _mm256_add_pd(ri, radii) };
             let room = _mm256_sub_pd(_mm256_mul_pd(sigma, sigma), dr2);
@@ -175,6 +122,122 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             }
         }
         best
+    }
+}
+
+/// A group's separations (partner minus own) and relative velocities per axis, with b = r·v, |r|²
+/// and, in a sheared box, the lanes whose pair lies across a sliding face.
+#[cfg(target_arch = "x86_64")]
+struct Lanes<const D: usize> {
+    ds: [__m256d; D],
+    dvs: [__m256d; D],
+    b: __m256d,
+    dr2: __m256d,
+    across: __m256d,
+}
+
+/// The separations of the group whose origins and velocities are `r0s`, `vels`, from the own
+/// particle (`own`, velocity `vel_i`) at the time in `now_v`. They are taken partner minus own, the
+/// negatives of `pair_time`'s, exactly (x − y = −(y − x) in floating point): every product of two
+/// of them, and so b, |r|² and the exact time, is the same to the bit, and the own values can be
+/// read from memory by the subtraction itself.
+///
+/// # Safety
+/// The processor must support AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[allow(unsafe_code)]
+#[inline]
+unsafe fn separations<const D: usize, B: Boundary, const WRAP: bool, const SHEAR: bool>(
+    r0s: &[__m256d; D],
+    vels: &[__m256d; D],
+    own: &[Image; D],
+    now_v: __m256d,
+    vel_i: &crate::Vector<D>,
+) -> Lanes<D> {
+    let zero = _mm256_setzero_pd();
+    let sign = _mm256_set1_pd(-0.0);
+    let mut b = zero;
+    let mut dr2 = zero;
+    let mut across = zero;
+    let mut ds = [zero; D];
+    let mut dvs = [zero; D];
+    for a in 0..D {
+        let (r0, vel) = (r0s[a], vels[a]);
+        let pos = _mm256_add_pd(r0, _mm256_mul_pd(vel, now_v));
+        let d = if WRAP && !B::is_wall(a) {
+            if SHEAR && a == 1 {
+                let raw = _mm256_andnot_pd(sign, _mm256_sub_pd(own[a].at, pos));
+                across = _mm256_cmp_pd::<_CMP_GT_OQ>(raw, own[a].half);
+            }
+            own[a].separation_from(pos)
+        } else {
+            _mm256_sub_pd(pos, own[a].at)
+        };
+        let dv = _mm256_sub_pd(vel, _mm256_set1_pd(vel_i[a]));
+        (ds[a], dvs[a]) = (d, dv);
+        if a == 0 {
+            b = _mm256_mul_pd(d, dv);
+            dr2 = _mm256_mul_pd(d, d);
+        } else {
+            b = _mm256_add_pd(b, _mm256_mul_pd(d, dv));
+            dr2 = _mm256_add_pd(dr2, _mm256_mul_pd(d, d));
+        }
+    }
+    Lanes {
+        ds,
+        dvs,
+        b,
+        dr2,
+        across,
+    }
+}
+
+/// The records of a group of four partners on four lanes: the trajectories' origins and the
+/// velocities per axis, and (unless every radius is the same, `SAME`) the radii. In 3D, where a
+/// record is one line, by two loads per record and a 4×4 transpose; in 2D by gathers.
+///
+/// # Safety
+/// The processor must support AVX2; the group's slots index records of `words` words from `base`
+/// (`at` their word offsets), which must fit an `i32`.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[allow(unsafe_code)]
+#[inline]
+unsafe fn group_lanes<const D: usize, const SAME: bool>(
+    base: *const f64,
+    group: &[u32],
+    at: __m128i,
+    words: i32,
+    (r0s, vels, radii): (&mut [__m256d; D], &mut [__m256d; D], &mut __m256d),
+) {
+    // Offsets, in words, of the fields of a record (`Particle` is `repr(C)`).
+    let (r0_at, vel_at, radius_at) = (0, D, 2 * D);
+    if D == 3 {
+        // Sphere records are one line each, [x y z vx | vy vz radius link]: two loads per
+        // partner and a 4×4 transpose give the same lanes as six gathers, in fewer µops
+        // where gathers are microcoded.
+        let rec = |k: usize| base.add(group[k] as usize * words as usize);
+        let recs = [rec(0), rec(1), rec(2), rec(3)];
+        let [t0, t1, t2, t3] = pairs_of_lanes(recs, 0);
+        r0s[0] = _mm256_permute2f128_pd::<0x20>(t0, t2);
+        r0s[2] = _mm256_permute2f128_pd::<0x31>(t0, t2);
+        r0s[1] = _mm256_permute2f128_pd::<0x20>(t1, t3);
+        vels[0] = _mm256_permute2f128_pd::<0x31>(t1, t3);
+        let [u0, u1, u2, u3] = pairs_of_lanes(recs, 4);
+        vels[1] = _mm256_permute2f128_pd::<0x20>(u0, u2);
+        vels[2] = _mm256_permute2f128_pd::<0x20>(u1, u3);
+        if !SAME {
+            *radii = _mm256_permute2f128_pd::<0x31>(u0, u2);
+        }
+    } else {
+        for a in 0..D {
+            r0s[a] = _mm256_i32gather_pd::<8>(base.add(r0_at + a), at);
+            vels[a] = _mm256_i32gather_pd::<8>(base.add(vel_at + a), at);
+        }
+        if !SAME {
+            *radii = _mm256_i32gather_pd::<8>(base.add(radius_at), at);
+        }
     }
 }
 
