@@ -24,6 +24,49 @@ pub struct Particle<const D: usize> {
     pub(crate) counter: u32,
 }
 
+impl<const D: usize> Particle<D> {
+    /// The straight-line part of the trajectory at local time `t`: the position itself except
+    /// under gravity, whose fall along the last axis the scene adds (`sim/scene.rs`).
+    #[inline(always)]
+    pub fn at(&self, t: f64) -> Vector<D> {
+        self.r0 + self.vel * t
+    }
+
+    /// A new velocity `v` from local time `t` on, through `pos`, the position at `t` (known to the
+    /// caller, which has just used it): the trajectory's origin moves, and the collision counter
+    /// advances so that predictions made against the old trajectory go stale.
+    #[inline(always)]
+    pub(crate) fn set_velocity(&mut self, pos: Vector<D>, v: Vector<D>, t: f64) {
+        self.r0 = pos - v * t;
+        self.vel = v;
+        self.bump();
+    }
+
+    /// [`Self::set_velocity`] with the origin moved by the velocity's change, `r0 += (vel − v) t`:
+    /// the same position to round-off, in the form wall contacts have always used (the two
+    /// roundings differ in the last bit, and results stay bit-identical only with each kept).
+    #[inline(always)]
+    pub(crate) fn change_velocity(&mut self, v: Vector<D>, t: f64) {
+        self.r0 += (self.vel - v) * t;
+        self.vel = v;
+        self.bump();
+    }
+
+    /// [`Self::change_velocity`] along one axis only.
+    #[inline(always)]
+    pub(crate) fn change_velocity_along(&mut self, axis: usize, v: f64, t: f64) {
+        self.r0[axis] += (self.vel[axis] - v) * t;
+        self.vel[axis] = v;
+        self.bump();
+    }
+
+    /// Marks every prediction made against the present trajectory stale.
+    #[inline(always)]
+    pub(crate) fn bump(&mut self) {
+        self.counter = self.counter.wrapping_add(1);
+    }
+}
+
 impl<const D: usize> crate::cells::CellLink for Particle<D> {
     #[inline(always)]
     fn link(&self) -> u32 {

@@ -248,7 +248,7 @@ impl<const D: usize> InitParams<D> {
             crate::CellGrid::<D>::check(&self.box_len, max_d, max_d)?;
         }
         let lists = skin > 0.0
-            && !B::GRAVITY
+            && crate::sim::lists_possible::<B>()
             && crate::CellGrid::<D>::check(&self.box_len, max_d + skin, max_d * params.cell_factor)
                 .is_ok();
         if !lists {

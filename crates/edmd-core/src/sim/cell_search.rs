@@ -4,7 +4,7 @@
 use super::{Aux, Cells, Simulation};
 use crate::calendar::Calendar;
 use crate::cells::NONE;
-use crate::predict::{fall_time, pair_time, reach_time, rise_time, select};
+use crate::predict::{pair_time, reach_time, select};
 use crate::{Boundary, CollisionRule, Particle, Vector};
 
 impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B, R, C> {
@@ -25,7 +25,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         let ci = self.meta[i].cell;
         if self.grid.is_interior(&ci) {
             let pi = self.particles[i];
-            let pos_i = pi.r0 + pi.vel * self.now;
+            let pos_i = pi.at(self.now);
             // Interior cell (the common case): fixed offsets, no periodic images; a full search
             // by rows of three cells (in the order of `grid.full`).
             let center = self.grid.index(&ci);
@@ -65,11 +65,11 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         only: Option<(usize, i32)>,
         mut best: (f64, u32),
     ) -> (f64, u32) {
-        if B::SHEARED {
-            return self.search_cells_sheared(i, only, best);
+        if let Some(found) = self.search_sliding_cells(i, only, best) {
+            return found;
         }
         let pi = self.particles[i];
-        let pos_i = pi.r0 + pi.vel * self.now;
+        let pos_i = pi.at(self.now);
         let ci = self.meta[i].cell;
         // Per axis: the neighbour rows to visit, as linear-index contribution and image shift.
         let mut lin = [[0usize; 3]; D];
@@ -162,7 +162,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             }
             // The particle itself (in its own cell of a full search) is no partner.
             if k as usize != i {
-                let dr = ri - (pk.r0 + pk.vel * now);
+                let dr = ri - pk.at(now);
                 let dv = pi.vel - pk.vel;
                 let t =
                     now + pair_time(&dr, &dv, pi.radius + pk.radius, vi2 + pk.vel.norm_squared());
@@ -180,42 +180,9 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     pub(super) fn aux_event_cells(&self, i: usize) -> (f64, Aux) {
         let p = &self.particles[i];
         let c = &self.meta[i].cell;
-        let mut best = (f64::INFINITY, Aux::Crossing { axis: 0, up: false });
-        if B::GRAVITY {
-            // The last axis: a parabola, which may turn before the upper face and always falls.
-            let a = D - 1;
-            let g = self.params.gravity;
-            let now = self.now;
-            let x = p.r0[a] + p.vel[a] * now - 0.5 * g * now * now;
-            let u = p.vel[a] - g * now;
-            let top = c[a] as usize + 1 == self.grid.n[a];
-            let axis = a as u8;
-            let (up_target, up_code) = if top {
-                (self.box_len[a] - p.radius, Aux::Wall { axis, up: true })
-            } else {
-                (
-                    (c[a] + 1) as f64 * self.grid.side[a],
-                    Aux::Crossing { axis, up: true },
-                )
-            };
-            let (down_target, down_code) = if c[a] == 0 {
-                (p.radius, Aux::Wall { axis, up: false })
-            } else {
-                (
-                    c[a] as f64 * self.grid.side[a],
-                    Aux::Crossing { axis, up: false },
-                )
-            };
-            let t_up = rise_time(x, u, g, up_target);
-            let t_down = fall_time(x, u, g, down_target);
-            best = if t_up < t_down {
-                (now + t_up, up_code)
-            } else {
-                (now + t_down, down_code)
-            };
-        }
+        let mut best = self.fall_exit(p, c);
         for a in 0..D {
-            if B::GRAVITY && a == D - 1 {
+            if self.falls_along(a) {
                 continue;
             }
             let v = p.vel[a];
@@ -229,15 +196,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                 c[a] == 0
             };
             let (dt, code) = if B::is_wall(a) && edge {
-                let target = if up {
-                    self.box_len[a] - p.radius
-                } else {
-                    p.radius
-                };
-                (
-                    reach_time(p.r0[a] + v * self.now, v, target),
-                    Aux::Wall { axis: a as u8, up },
-                )
+                (self.wall_ahead(p, a, up), Aux::Wall { axis: a as u8, up })
             } else {
                 let face = (c[a] as u32 + up as u32) as f64 * self.grid.side[a];
                 (
@@ -281,7 +240,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             *c -= 1;
         }
         let to = *c as isize;
-        let sheared = B::SHEARED && axis == 1 && wrapped;
+        let sheared = wrapped && self.slides_across(axis);
         let new = if sheared {
             // The sliding face may move the cell along x too.
             self.cross_sheared_face(i, up);

@@ -3,6 +3,7 @@
 use nalgebra::Vector3;
 use rand_xoshiro::Xoshiro256PlusPlus;
 
+use super::shear::PairChange;
 use super::space::image_near;
 use super::Simulation;
 use crate::calendar::Calendar;
@@ -15,16 +16,12 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     pub(super) fn collide(&mut self, i: usize, j: usize) {
         let (pi, pj) = (self.particles[i], self.particles[j]);
         let now = self.now;
-        let (pos_i, pos_j) = (pi.r0 + pi.vel * now, pj.r0 + pj.vel * now);
+        let (pos_i, pos_j) = (pi.at(now), pj.at(now));
         // The image of j nearest to i, and the separation written exactly as `search` writes it, so
         // that the approach test below and the prediction agree to the last bit: a pair found
         // approaching is treated as approaching, and one found receding is never predicted again.
-        let (ri, vi_img) = if B::SHEARED {
-            self.sheared_image_near(&pos_i, &pi.vel, &pos_j)
-        } else {
-            (self.image_near(&pos_i, &pos_j), pi.vel)
-        };
-        let dr = ri - (pj.r0 + pj.vel * now);
+        let (ri, vi_img) = self.pair_image(&pos_i, &pi.vel, &pos_j);
+        let dr = ri - pj.at(now);
         let dv = vi_img - pj.vel;
         let b = dr.dot(&dv);
         if !approaching(
@@ -58,8 +55,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             pi.vel + normal * (impulse / mi),
             pj.vel - normal * (impulse / mj),
         );
-        // Sheared scenes: the kinetic energy the contact removes, in the frame of i's image (where
-        // the pair's momentum is conserved; the loss is the same in every such frame).
+        // The rotational energy the contact removes (for the sheared sums).
         let mut spin_loss = 0.0;
         if R::ROUGH {
             let (beta, q) = self.rule.roughness();
@@ -70,44 +66,32 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                 vi[a] += pt[a] / mi;
                 vj[a] -= pt[a] / mj;
             }
-            if B::SHEARED {
-                let (ii, ij) = (
-                    q * mi * pi.radius * pi.radius,
-                    q * mj * pj.radius * pj.radius,
-                );
-                spin_loss = 0.5 * ii * (wi.norm_squared() - (wi + dwi).norm_squared())
-                    + 0.5 * ij * (wj.norm_squared() - (wj + dwj).norm_squared());
-            }
+            // Read by the sheared sums only; elsewhere the compiler drops it.
+            let (ii, ij) = (
+                q * mi * pi.radius * pi.radius,
+                q * mj * pj.radius * pj.radius,
+            );
+            spin_loss = 0.5 * ii * (wi.norm_squared() - (wi + dwi).norm_squared())
+                + 0.5 * ij * (wj.norm_squared() - (wj + dwj).norm_squared());
             R::set_spin(si, (wi + dwi).into());
             R::set_spin(sj, (wj + dwj).into());
         }
         if R::ROTATES && self.rule.rotates() {
             (vi, vj) = self.rotate_pair(vi, vj, vi_img - pi.vel, (mi, mj), &normal);
         }
-        self.particles[i].vel = vi;
-        self.particles[i].r0 = pos_i - vi * now;
-        self.particles[j].vel = vj;
-        self.particles[j].r0 = pos_j - vj * now;
-        self.particles[i].counter = self.particles[i].counter.wrapping_add(1);
-        self.particles[j].counter = self.particles[j].counter.wrapping_add(1);
+        self.particles[i].set_velocity(pos_i, vi, now);
+        self.particles[j].set_velocity(pos_j, vj, now);
         self.counters.pair_collisions += 1;
         // Physical momentum transfer (the simulated one carries the deep-cooling scale).
         self.counters.virial += impulse * dist * self.inv_scale;
-        if B::SHEARED {
-            // The whole impulse on i (normal, tangential, rotated) times the separation: a-momentum
-            // carried along b. Tangential and rotated impulses make it asymmetric, and the shear's
-            // work is −a times the [0][1] entry (PHYSICS.md §7).
-            let dp = (vi - pi.vel) * mi;
-            for a in 0..D {
-                for b in 0..D {
-                    self.counters.virial_tensor[a][b] += dp[a] * dr[b];
-                }
-            }
-            let vi_after = vi + (vi_img - pi.vel);
-            self.counters.dissipated += spin_loss
-                + 0.5 * mi * (vi_img.norm_squared() - vi_after.norm_squared())
-                + 0.5 * mj * (pj.vel.norm_squared() - vj.norm_squared());
-        }
+        self.add_shear_sums(&PairChange {
+            masses: (mi, mj),
+            before: (pi.vel, pj.vel),
+            after: (vi, vj),
+            image_velocity: vi_img,
+            separation: dr,
+            spin_loss,
+        });
     }
 
     /// The remedy's random rotation of the pair's new velocities `vi`, `vj`, taken in the frame of
@@ -123,65 +107,14 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         normal: &Vector<D>,
     ) -> (Vector<D>, Vector<D>) {
         let theta = self.rule.rotation_angle(&mut self.rng);
-        if B::SHEARED {
-            let (wi, wj) = rotate_relative(vi + slide, vj, mi, mj, normal, theta, &mut self.rng);
-            (wi - slide, wj)
-        } else {
-            rotate_relative(vi, vj, mi, mj, normal, theta, &mut self.rng)
+        match self.sliding(slide) {
+            Some(slide) => {
+                let (wi, wj) =
+                    rotate_relative(vi + slide, vj, mi, mj, normal, theta, &mut self.rng);
+                (wi - slide, wj)
+            }
+            None => rotate_relative(vi, vj, mi, mj, normal, theta, &mut self.rng),
         }
-    }
-
-    /// Specular reflection of particle `i` at a wall normal to `axis`, with the wall's restitution.
-    #[inline]
-    pub(super) fn wall(&mut self, i: usize, axis: usize) {
-        let now = self.now;
-        let gravity = if B::GRAVITY && axis == D - 1 {
-            self.params.gravity
-        } else {
-            0.0
-        };
-        // Normal speed at contact (the stored velocity is the one at local time 0 under gravity).
-        let u = self.particles[i].vel[axis] - gravity * now;
-        if self.params.floor_temperature > 0.0 && axis == D - 1 && u < 0.0 {
-            self.thermal_floor(i, gravity);
-            return;
-        }
-        let p = &mut self.particles[i];
-        let e = if u.abs() < self.params.wall_threshold {
-            1.0
-        } else {
-            self.params.wall_epsilon
-        };
-        let v_new = -e * u + gravity * now;
-        // Keep the position continuous: r0 + v t is the non-gravitational part of the trajectory.
-        p.r0[axis] += (p.vel[axis] - v_new) * now;
-        p.vel[axis] = v_new;
-        self.particles[i].counter = self.particles[i].counter.wrapping_add(1);
-        self.counters.wall_collisions += 1;
-    }
-
-    /// The thermal floor: particle `i`, hitting the wall at 0 of the last axis, leaves with a velocity
-    /// drawn from the wall's flux-weighted Maxwellian at `floor_temperature` (in simulated units, so
-    /// scaled like every velocity): normal speed √(−2 (T/m) ln U), Rayleigh-distributed, away from
-    /// the wall; tangential components Gaussian of variance T/m.
-    #[cold]
-    fn thermal_floor(&mut self, i: usize, gravity: f64) {
-        use rand::Rng;
-        let now = self.now;
-        let sd = (self.params.floor_temperature / self.meta[i].mass).sqrt() * self.scale;
-        let mut v_new = Vector::<D>::zeros();
-        for a in 0..D - 1 {
-            v_new[a] = sd * self.rng.sample::<f64, _>(rand_distr::StandardNormal);
-        }
-        // 1 − U lies in (0, 1]: the logarithm is finite.
-        let u: f64 = 1.0 - self.rng.random::<f64>();
-        v_new[D - 1] = sd * (-2.0 * u.ln()).sqrt() + gravity * now;
-        let p = &mut self.particles[i];
-        // Keep the position continuous on every axis.
-        p.r0 += (p.vel - v_new) * now;
-        p.vel = v_new;
-        self.particles[i].counter = self.particles[i].counter.wrapping_add(1);
-        self.counters.wall_collisions += 1;
     }
 
     /// `x` moved by a box length on each periodic axis where that brings it nearer to `y` (the

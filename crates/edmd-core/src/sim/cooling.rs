@@ -9,10 +9,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     /// every velocity back up to it and records the factor, so that T/T0 = 1e-300 and beyond is
     /// reached without underflow. The caller predicts all events again.
     pub(super) fn rescale_if_cold(&mut self) -> bool {
-        // Under gravity the acceleration would have to be rescaled too: no deep cooling there.
-        // Under shear the images' speed would have to be rescaled too; a sheared gas reaches a steady
-        // temperature instead of cooling without end.
-        if self.params.rescale_below <= 0.0 || B::GRAVITY || B::SHEARED {
+        if self.params.rescale_below <= 0.0 || !self.may_rescale() {
             return false;
         }
         let sim_t = self.simulated_temperature();
@@ -41,8 +38,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     /// motion, so once the drift carries more than 1e-12 of the kinetic energy it is removed (a
     /// Galilean boost; events are predicted again). Walls and gravity break the symmetry: never there.
     pub(super) fn remove_drift_if_large(&mut self) -> bool {
-        // Sheared scenes exchange momentum with the sliding images (the mean flow is imposed).
-        if B::WALL_MASK != 0 || B::GRAVITY || B::SHEARED {
+        if !self.conserves_momentum() {
             return false;
         }
         let (mut p, mut mass, mut twice_ke) = (Vector::<D>::zeros(), 0.0, 0.0);
@@ -84,20 +80,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     /// stale (the caller predicts them again).
     fn scale_motion(&mut self, factor: f64) {
         self.rebase_clock();
-        if B::SHEARED {
-            // Only the peculiar part: the flow a (y − L_y/2) is the boundary's, not the gas's heat.
-            let (rate, middle) = (self.params.shear_rate, self.half_box[1]);
-            for p in &mut self.particles {
-                let flow = rate * (p.r0[1] - middle);
-                p.vel[0] -= flow;
-                p.vel *= factor;
-                p.vel[0] += flow;
-            }
-        } else {
-            for p in &mut self.particles {
-                p.vel *= factor;
-            }
-        }
+        self.scale_thermal_velocities(factor);
         self.scale_spins(factor);
         self.invalidate_events();
     }
@@ -105,7 +88,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     /// Marks every particle's pending events stale: each particle counts one more collision.
     fn invalidate_events(&mut self) {
         for p in &mut self.particles {
-            p.counter = p.counter.wrapping_add(1);
+            p.bump();
         }
     }
 }

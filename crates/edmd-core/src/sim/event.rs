@@ -5,7 +5,6 @@ use super::{Aux, Cells, Lists, Search, Simulation};
 use crate::calendar::Calendar;
 use crate::cells::NONE;
 use crate::nlist::NeighbourLists;
-use crate::predict::reach_time;
 use crate::{Boundary, CollisionRule};
 
 /// What an event was, with original particle indices.
@@ -52,7 +51,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     #[inline]
     pub(super) fn step_with<S: Search>(&mut self) -> Option<EventKind> {
         let (i, t) = self.calendar.pop(&mut self.meta)?;
-        if B::SHEARED && t > self.shear.next {
+        if self.shift_before(t) {
             // The sliding images move the outer rows' stencils first; the event waits its turn.
             self.calendar.schedule(&mut self.meta, i, t);
             self.shear_shift();
@@ -204,7 +203,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     pub(super) fn aux_event_list(&self, nl: &NeighbourLists<D>, i: usize) -> (f64, Aux) {
         let now = self.now;
         let p = &self.particles[i];
-        let pos = p.r0 + p.vel * now;
+        let pos = p.at(now);
         let u = pos - nl.centre[i];
         let v2 = p.vel.norm_squared();
         let mut best = (f64::INFINITY, Aux::ShellExit);
@@ -222,12 +221,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                 continue;
             }
             let up = v > 0.0;
-            let target = if up {
-                self.box_len[a] - p.radius
-            } else {
-                p.radius
-            };
-            let t = now + reach_time(pos[a], v, target);
+            let t = now + self.wall_ahead(p, a, up);
             if t < best.0 {
                 best = (t, Aux::Wall { axis: a as u8, up });
             }

@@ -77,12 +77,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         else {
             return None;
         };
-        let window = B::SHEARED.then_some(ShearWindow {
-            delta: shear.offset + shear.speed * *now,
-            end: shear.offset + shear.speed * shear.next,
-            speed: shear.speed,
-            cell: shear.cell,
-        });
+        let window = shear.window::<B>(*now);
         Some(ListParts {
             nl,
             particles,
@@ -113,7 +108,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             self.prefetch_listed(nl, i);
         }
         let far = nl.far(i);
-        let sliding = !far && B::SHEARED && self.near_sliding_face(nl, i);
+        let sliding = !far && self.slides_near(nl, i);
         // The scan's variant: (WRAP, SHEAR) = no images far from the faces, sliding images near a
         // sliding face, periodic images elsewhere.
         macro_rules! variant {
@@ -164,7 +159,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     ) -> (f64, u32) {
         let now = self.now;
         let pi = self.particles[i];
-        let pos_i = pi.r0 + pi.vel * now;
+        let pos_i = pi.at(now);
         let vi2 = pi.vel.norm_squared();
         let mut limit = smaller(best.0 - now, horizon - now);
         // A last, partial group is filled up with `i` itself, which the test rejects (b = 0).
@@ -254,7 +249,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     ) {
         let now = self.now;
         let pj = &self.particles[j as usize];
-        let pos_j = pj.r0 + pj.vel * now;
+        let pos_j = pj.at(now);
         // The nearest image, exactly as `collide` takes it.
         let dr = if WRAP {
             self.image_near(pos_i, &pos_j) - pos_j
@@ -372,7 +367,7 @@ fn wrapped_now<const D: usize, B: Boundary>(
     now: f64,
     box_len: &Vector<D>,
 ) -> Vector<D> {
-    let mut pos = p.r0 + p.vel * now;
+    let mut pos = p.at(now);
     for a in 0..D {
         if !B::is_wall(a) {
             let l = box_len[a];

@@ -41,6 +41,7 @@ mod look_ahead;
 mod params;
 mod query;
 mod run;
+mod scene;
 mod shear;
 mod shear_lists;
 mod space;
@@ -48,12 +49,14 @@ mod upkeep;
 mod wide_scan;
 
 use collapse::CollapseMonitor;
+use shear::Shear;
 
 pub use collapse::{Collapse, CollapseReason};
 pub use engine::Engine;
 pub use event::EventKind;
 pub use params::SimParams;
 pub use run::{RunEnd, Stop};
+pub(crate) use scene::lists_possible;
 
 /// A particle's next event other than a collision, as the slot stores it: decoded once, where it
 /// is predicted, and matched once, where it is handled.
@@ -251,23 +254,6 @@ pub struct Simulation<const D: usize, B: Boundary, R: CollisionRule, C: Calendar
     _boundary: PhantomData<B>,
 }
 
-/// The state of the sliding images of a sheared scene: Δ(now) = `offset` + `speed` · now, taken
-/// modulo L_x only together with `cell` (at each clock rebase), so that the two always agree.
-/// Across a y face a particle's cell search covers four cells of the sliding row, enough until Δ
-/// next crosses a multiple of the cell side: then (`next`, local time) every particle of the two
-/// outer rows is searched again, with the row's stencil moved by one cell (`cell`).
-#[derive(Debug, Clone, Copy, Default)]
-pub(crate) struct Shear {
-    /// Δ at local time 0.
-    pub offset: f64,
-    /// The images' speed a L_y.
-    pub speed: f64,
-    /// ⌊Δ / cell side⌋ between shifts (counted by the shifts, not computed from Δ).
-    pub cell: i64,
-    /// Local time of the next shift (∞ without shear).
-    pub next: f64,
-}
-
 impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B, R, C> {
     /// Builds a simulation from explicit particles. Errors if a parameter is invalid, a particle lies
     /// outside the box (or inside a wall), or two particles overlap.
@@ -278,7 +264,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         params: SimParams,
     ) -> Result<Self, EdmdError> {
         let n = particles.len();
-        checks::scene::<D, B>(n, &box_len, &params)?;
+        scene::check_scene::<D, B>(n, &box_len, &params)?;
         let max_d = checks::particles::<D, B>(&particles, &box_len)?;
         let (grid, nl) = neighbour_search::<D, B>(&box_len, &particles, &params, max_d)?;
         let meta = particles
@@ -329,19 +315,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             shear: Shear::default(),
             _boundary: PhantomData,
         };
-        if B::SHEARED {
-            let speed = sim.params.shear_rate * box_len[1];
-            sim.shear = Shear {
-                offset: 0.0,
-                speed,
-                cell: 0,
-                next: if speed > 0.0 {
-                    sim.grid.side[0] / speed
-                } else {
-                    f64::INFINITY
-                },
-            };
-        }
+        sim.shear = Shear::new::<B>(sim.params.shear_rate, box_len[1], sim.grid.side[0]);
         for i in 0..n {
             let c = sim.grid.coords_of(&sim.particles[i].r0);
             sim.meta[i].set_cell(c);
@@ -399,11 +373,10 @@ fn neighbour_search<const D: usize, B: Boundary>(
     max_d: f64,
 ) -> Result<(CellGrid<D>, Option<NeighbourLists<D>>), EdmdError> {
     let skin = params.neighbour_skin * max_d;
-    // Sheared boxes need four distinct columns across the sliding faces (`sim/lists.rs`).
-    let list_grid = (skin > 0.0 && !B::GRAVITY)
+    let list_grid = (skin > 0.0 && lists_possible::<B>())
         .then(|| CellGrid::new(box_len, max_d + skin, max_d * params.cell_factor).ok())
         .flatten()
-        .filter(|g| !B::SHEARED || g.n[0] >= 4);
+        .filter(scene::list_grid_fits::<D, B>);
     Ok(match list_grid {
         Some(g) => {
             let mut nl = NeighbourLists::new(particles.len(), skin, max_d);

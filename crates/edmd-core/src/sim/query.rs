@@ -18,7 +18,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     /// compiler: the list-mode loop is not compiled into those scenes at all.
     #[inline(always)]
     pub(super) fn uses_lists(&self) -> bool {
-        !B::GRAVITY && self.nl.is_some()
+        super::lists_possible::<B>() && self.nl.is_some()
     }
 
     /// The member after slot `k` in its cell: the grid links through [`NeighbourLists::links`] in
@@ -211,68 +211,9 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         self.in_original_order(|s| self.velocity_now(&self.particles[s]))
     }
 
-    /// A particle's velocity at the current time (the stored one is at local time 0 under gravity).
-    #[inline(always)]
-    pub(crate) fn velocity_now(&self, p: &Particle<D>) -> Vector<D> {
-        let mut v = p.vel;
-        if B::GRAVITY {
-            v[D - 1] -= self.params.gravity * self.now;
-        }
-        if B::SHEARED && self.nl.is_some() {
-            // List mode wraps lazily: a grain past a sliding face reports its image in the box.
-            v[0] -= self.faces_passed(p) * self.shear.speed;
-        }
-        v
-    }
-
-    /// A particle's thermal velocity at the current time: [`Self::velocity_now`] less the imposed
-    /// flow a (y − L_y/2) e_x in a sheared scene (the peculiar velocity, y taken where the
-    /// trajectory is), the velocity itself elsewhere. Simulation units.
-    #[inline(always)]
-    pub(crate) fn thermal_velocity_now(&self, p: &Particle<D>) -> Vector<D> {
-        if B::SHEARED {
-            // The same for a grain and its images: no wrapping needed.
-            let mut v = p.vel;
-            let y = p.r0[1] + p.vel[1] * self.now;
-            v[0] -= self.params.shear_rate * (y - self.half_box[1]);
-            return v;
-        }
-        self.velocity_now(p)
-    }
-
-    /// Potential energy Σ m g h in the gravity field (0 without gravity).
-    pub fn potential_energy(&self) -> f64 {
-        if !B::GRAVITY {
-            return 0.0;
-        }
-        let g = self.params.gravity;
-        (0..self.len())
-            .map(|s| self.meta[s].mass * g * self.position_of_slot(s)[D - 1])
-            .sum()
-    }
-
     /// Positions at the current time, wrapped into the box on periodic axes, in the original order.
     pub fn positions(&self) -> Vec<Vector<D>> {
         self.in_original_order(|s| self.position_of_slot(s))
-    }
-
-    pub(super) fn position_of_slot(&self, s: usize) -> Vector<D> {
-        let p = &self.particles[s];
-        let mut x = p.r0 + p.vel * self.now;
-        if B::GRAVITY {
-            x[D - 1] -= 0.5 * self.params.gravity * self.now * self.now;
-        }
-        if B::SHEARED && self.nl.is_some() {
-            let k = self.faces_passed(p);
-            x[1] -= k * self.box_len[1];
-            x[0] -= k * self.shear_delta();
-        }
-        for a in 0..D {
-            if !B::is_wall(a) {
-                x[a] = x[a].rem_euclid(self.box_len[a]);
-            }
-        }
-        x
     }
 
     /// Heap bytes held by the simulation's own arrays (particles, events, cells, calendar estimate).

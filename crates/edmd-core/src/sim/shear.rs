@@ -8,12 +8,185 @@
 //! visits those four columns, and when Δ reaches the next multiple of w (a *shift*) every particle
 //! of the two outer rows is searched again with m + 1, so no candidate is ever missed.
 
+use super::shear_lists::ShearWindow;
 use super::{Cells, Simulation};
 use crate::calendar::Calendar;
 use crate::cells::NONE;
 use crate::{Boundary, CollisionRule, Particle, Vector};
 
+/// The state of the sliding images of a sheared scene: Δ(now) = `offset` + `speed` · now, taken
+/// modulo L_x only together with `cell` (at each clock rebase), so that the two always agree.
+/// Across a y face a particle's cell search covers four cells of the sliding row, enough until Δ
+/// next crosses a multiple of the cell side: then (`next`, local time) every particle of the two
+/// outer rows is searched again, with the row's stencil moved by one cell (`cell`).
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct Shear {
+    /// Δ at local time 0.
+    pub offset: f64,
+    /// The images' speed a L_y.
+    pub speed: f64,
+    /// ⌊Δ / cell side⌋ between shifts (counted by the shifts, not computed from Δ).
+    pub cell: i64,
+    /// Local time of the next shift (∞ without shear).
+    pub next: f64,
+}
+
+impl Shear {
+    /// The sliding images of scene `B` at rate `rate` in a box whose cell columns are
+    /// `side` wide, `height` the box's L_y: at rest where the scene is not sheared (`next` = ∞).
+    pub(super) fn new<B: Boundary>(rate: f64, height: f64, side: f64) -> Shear {
+        if !B::SHEARED {
+            return Shear::default();
+        }
+        let speed = rate * height;
+        Shear {
+            offset: 0.0,
+            speed,
+            cell: 0,
+            next: if speed > 0.0 {
+                side / speed
+            } else {
+                f64::INFINITY
+            },
+        }
+    }
+
+    /// What list mode needs of the images at local time `now`: their offset, its value at the next
+    /// shift, their speed and the stencil's cell (none where scene `B` is not sheared).
+    #[inline(always)]
+    pub(super) fn window<B: Boundary>(&self, now: f64) -> Option<ShearWindow> {
+        B::SHEARED.then_some(ShearWindow {
+            delta: self.offset + self.speed * now,
+            end: self.offset + self.speed * self.next,
+            speed: self.speed,
+            cell: self.cell,
+        })
+    }
+}
+
+/// A pair collision as the sheared sums read it: lab velocities before and after, i's image's
+/// velocity (i's own plus the slide across a face), the separation from j to i's image.
+pub(super) struct PairChange<const D: usize> {
+    pub masses: (f64, f64),
+    pub before: (Vector<D>, Vector<D>),
+    pub after: (Vector<D>, Vector<D>),
+    pub image_velocity: Vector<D>,
+    pub separation: Vector<D>,
+    /// The rotational energy the contact removed (rough grains; else 0).
+    pub spin_loss: f64,
+}
+
 impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B, R, C> {
+    /// The image of j nearest to i (at `x`, moving with `v`), found as the searches find it, so
+    /// that a pair they predicted approaching is approaching here too: i's position moved to that
+    /// image's frame, and i's velocity there (its own but across a sliding face).
+    #[inline(always)]
+    pub(super) fn pair_image(
+        &self,
+        x: &Vector<D>,
+        v: &Vector<D>,
+        y: &Vector<D>,
+    ) -> (Vector<D>, Vector<D>) {
+        if B::SHEARED {
+            self.sheared_image_near(x, v, y)
+        } else {
+            (self.image_near(x, y), *v)
+        }
+    }
+
+    /// `slide` (how much faster i's image moves than i) where images slide, else none: the frame
+    /// in which a pair's relative velocity is the difference of the two.
+    #[inline(always)]
+    pub(super) fn sliding(&self, slide: Vector<D>) -> Option<Vector<D>> {
+        B::SHEARED.then_some(slide)
+    }
+
+    /// Sheared scenes: the collision's share of the collisional stress tensor and of the energy
+    /// dissipated (PHYSICS.md §7); nothing elsewhere.
+    #[inline(always)]
+    pub(super) fn add_shear_sums(&mut self, c: &PairChange<D>) {
+        if !B::SHEARED {
+            return;
+        }
+        let ((mi, mj), (vi0, vj0), (vi, vj)) = (c.masses, c.before, c.after);
+        // The whole impulse on i (normal, tangential, rotated) times the separation: a-momentum
+        // carried along b. Tangential and rotated impulses make it asymmetric, and the shear's
+        // work is −a times the [0][1] entry (PHYSICS.md §7).
+        let dp = (vi - vi0) * mi;
+        for a in 0..D {
+            for b in 0..D {
+                self.counters.virial_tensor[a][b] += dp[a] * c.separation[b];
+            }
+        }
+        // The kinetic energy removed, in the frame of i's image (where the pair's momentum is
+        // conserved; the loss is the same in every such frame).
+        let vi_after = vi + (c.image_velocity - vi0);
+        self.counters.dissipated += c.spin_loss
+            + 0.5 * mi * (c.image_velocity.norm_squared() - vi_after.norm_squared())
+            + 0.5 * mj * (vj0.norm_squared() - vj.norm_squared());
+    }
+
+    /// List mode: whether slot i's listed partners may sit across a sliding face
+    /// ([`Self::near_sliding_face`]; never where the scene is not sheared).
+    #[inline(always)]
+    pub(super) fn slides_near(&self, nl: &crate::nlist::NeighbourLists<D>, i: usize) -> bool {
+        B::SHEARED && self.near_sliding_face(nl, i)
+    }
+
+    /// Cell mode at the box's edge: the search across the sliding faces where they slide
+    /// ([`Self::search_cells_sheared`]); none elsewhere.
+    #[inline(always)]
+    pub(super) fn search_sliding_cells(
+        &self,
+        i: usize,
+        only: Option<(usize, i32)>,
+        best: (f64, u32),
+    ) -> Option<(f64, u32)> {
+        B::SHEARED.then(|| self.search_cells_sheared(i, only, best))
+    }
+
+    /// Whether a wrap along `axis` crosses a sliding face (y in a sheared box).
+    #[inline(always)]
+    pub(super) fn slides_across(&self, axis: usize) -> bool {
+        B::SHEARED && axis == 1
+    }
+
+    /// Whether the images' next shift comes before an event at local time `t`, and so first.
+    #[inline(always)]
+    pub(super) fn shift_before(&self, t: f64) -> bool {
+        B::SHEARED && t > self.shear.next
+    }
+
+    /// The images' part of a clock rebase to local time `now`.
+    pub(super) fn rebase_shear(&mut self, now: f64) {
+        if B::SHEARED {
+            // Whole box lengths leave Δ and the stencil's cell together, so the two stay consistent.
+            let s = &mut self.shear;
+            let wraps = s.cell.div_euclid(self.grid.n[0] as i64);
+            s.offset += s.speed * now - wraps as f64 * self.box_len[0];
+            s.cell -= wraps * self.grid.n[0] as i64;
+            s.next -= now;
+        }
+    }
+
+    /// Scales every velocity by `factor`, in a sheared box only its peculiar part: the flow
+    /// a (y − L_y/2) is the boundary's, not the gas's heat.
+    pub(super) fn scale_thermal_velocities(&mut self, factor: f64) {
+        if B::SHEARED {
+            let (rate, middle) = (self.params.shear_rate, self.half_box[1]);
+            for p in &mut self.particles {
+                let flow = rate * (p.r0[1] - middle);
+                p.vel[0] -= flow;
+                p.vel *= factor;
+                p.vel[0] += flow;
+            }
+        } else {
+            for p in &mut self.particles {
+                p.vel *= factor;
+            }
+        }
+    }
+
     /// Δ at the current time (not reduced modulo L_x; see [`super::Shear`]).
     #[inline(always)]
     pub(super) fn shear_delta(&self) -> f64 {
@@ -97,7 +270,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         mut best: (f64, u32),
     ) -> (f64, u32) {
         let pi = self.particles[i];
-        let pos_i = pi.r0 + pi.vel * self.now;
+        let pos_i = pi.at(self.now);
         let ci = self.meta[i].cell();
         let n = self.grid.n;
         let (nx, ny) = (n[0] as i64, n[1] as i64);
@@ -201,8 +374,8 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         let x = (p.r0[0] + p.vel[0] * now - s * delta).rem_euclid(lx);
         p.vel[0] -= s * speed;
         p.r0[0] = x - p.vel[0] * now;
-        p.counter = p.counter.wrapping_add(1);
-        let mut at = p.r0 + p.vel * now;
+        p.bump();
+        let mut at = p.at(now);
         at[0] = x;
         self.meta[i].cell[0] = self.grid.coords_of(&at)[0] as u16;
     }

@@ -43,7 +43,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     ) {
         let now = self.now;
         let pj = &self.particles[j as usize];
-        let pos_j = pj.r0 + pj.vel * now;
+        let pos_j = pj.at(now);
         let (ri, vi) = self.sheared_image_near(pos_i, &pi.vel, &pos_j);
         let v2 = vi.norm_squared() + pj.vel.norm_squared();
         self.keep_if_earlier(
@@ -78,14 +78,14 @@ pub(super) fn wrapped_now_sheared<const D: usize>(
     box_len: &Vector<D>,
     w: &ShearWindow,
 ) -> Vector<D> {
-    let mut pos = p.r0 + p.vel * now;
+    let mut pos = p.at(now);
     let k = (pos[1] / box_len[1]).floor();
     let mut moved = k != 0.0;
     if moved {
         pos[1] -= k * box_len[1];
         pos[0] -= k * w.delta;
         p.vel[0] -= k * w.speed;
-        p.counter = p.counter.wrapping_add(1);
+        p.bump();
     }
     for a in 0..D {
         let l = box_len[a];

@@ -143,26 +143,12 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         if now == 0.0 {
             return;
         }
-        let g = self.params.gravity;
-        for p in &mut self.particles {
-            p.r0 += p.vel * now;
-            if B::GRAVITY {
-                p.r0[D - 1] -= 0.5 * g * now * now;
-                p.vel[D - 1] -= g * now;
-            }
-        }
+        self.rebase_trajectories(now);
         for m in &mut self.meta {
             m.ev.coll_t -= now;
             m.ev.aux_t -= now;
         }
-        if B::SHEARED {
-            // Whole box lengths leave Δ and the stencil's cell together, so the two stay consistent.
-            let s = &mut self.shear;
-            let wraps = s.cell.div_euclid(self.grid.n[0] as i64);
-            s.offset += s.speed * now - wraps as f64 * self.box_len[0];
-            s.cell -= wraps * self.grid.n[0] as i64;
-            s.next -= now;
-        }
+        self.rebase_shear(now);
         self.epoch += now;
         self.now = 0.0;
     }

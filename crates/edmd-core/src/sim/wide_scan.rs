@@ -44,7 +44,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         const LANES: usize = 4;
         let now = self.now;
         let pi = self.particles[i];
-        let pos_i = pi.r0 + pi.vel * now;
+        let pos_i = pi.at(now);
         let vi2 = pi.vel.norm_squared();
         let mut limit = smaller(best.0 - now, horizon - now);
         let words = (std::mem::size_of::<Particle<D>>() / 8) as i32;
