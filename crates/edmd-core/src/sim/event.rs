@@ -51,13 +51,6 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     #[inline]
     pub(super) fn step_with<S: Search>(&mut self) -> Option<EventKind> {
         let (i, t) = self.calendar.pop(&mut self.meta)?;
-        if self.shift_before(t) {
-            // The sliding images move the outer rows' stencils first; the event waits its turn.
-            self.calendar.schedule(&mut self.meta, i, t);
-            self.shear_shift();
-            self.counters.events += 1;
-            return Some(EventKind::ShearShift);
-        }
         self.hint_popped::<S>();
         debug_assert!(t >= self.now, "event in the past: {t} < {}", self.now);
         self.now = t;
@@ -88,6 +81,8 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                 self.cross(i, axis as usize, up);
                 EventKind::CellCrossing(id)
             }
+            // Upkeep by the event count waits for the next particle's event.
+            Event::Aux(Aux::System(kind)) => return Some(self.system_event(kind)),
         };
         self.hint_done::<S>();
         if self.counters.events >= self.next_maintenance {

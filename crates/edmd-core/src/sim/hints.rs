@@ -124,7 +124,10 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     /// neighbour cells, measured no gain: docs/benchmarks.md.)
     #[inline]
     fn prefetch_next_partner(&self) {
-        let (Some(next), Some(nl)) = (self.calendar.hints().next_hint(), &self.nl) else {
+        let next = self.calendar.hints().next_hint();
+        // A system event's slot has no list.
+        let next = next.filter(|&k| (k as usize) < self.len());
+        let (Some(next), Some(nl)) = (next, &self.nl) else {
             return;
         };
         // The next particle's listed partners, whose records its prediction scans (its list was

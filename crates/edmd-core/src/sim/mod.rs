@@ -45,11 +45,13 @@ mod scene;
 mod shear;
 mod shear_lists;
 mod space;
+mod system;
 mod upkeep;
 mod wide_scan;
 
 use collapse::CollapseMonitor;
 use shear::Shear;
+use system::SystemEvent;
 
 pub use collapse::{Collapse, CollapseReason};
 pub use engine::Engine;
@@ -78,6 +80,8 @@ pub(crate) enum Aux {
     },
     /// Out of the particle's shell (neighbour-list mode).
     ShellExit,
+    /// An event of the whole system, in a slot after the particles' (`sim/system.rs`).
+    System(SystemEvent),
 }
 
 /// How a simulation finds its neighbours, fixed at construction: [`Cells`] or [`Lists`]. The event
@@ -267,7 +271,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         scene::check_scene::<D, B>(n, &box_len, &params)?;
         let max_d = checks::particles::<D, B>(&particles, &box_len)?;
         let (grid, nl) = neighbour_search::<D, B>(&box_len, &particles, &params, max_d)?;
-        let meta = particles
+        let meta: Vec<Meta<D>> = particles
             .iter()
             .enumerate()
             .map(|(i, p)| Meta {
@@ -278,6 +282,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                 aux: Aux::Crossing { axis: 0, up: false },
                 entry: Entry::EMPTY,
             })
+            .chain(SystemEvent::ALL.map(SystemEvent::record))
             .collect();
         let mut sim = Simulation {
             // Same size and alignment: the conversion reuses the allocation.
@@ -295,7 +300,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             rule_state: vec![R::State::default(); n],
             grid,
             nl,
-            calendar: C::with_capacity(n),
+            calendar: C::with_capacity(n + SystemEvent::ALL.len()),
             rule,
             box_len,
             half_box: box_len / 2.0,
@@ -337,7 +342,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     pub fn with_rule<R2: CollisionRule>(self, rule: R2) -> Simulation<D, B, R2, C> {
         Simulation {
             particles: self.particles,
-            rule_state: vec![R2::State::default(); self.meta.len()],
+            rule_state: vec![R2::State::default(); self.rule_state.len()],
             meta: self.meta,
             grid: self.grid,
             nl: self.nl,

@@ -160,7 +160,10 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     /// Sets the angular velocity of particle `id` (original index; physical units; only z counts in
     /// 2D). Ignored by smooth rules. Events are predicted again.
     pub fn set_spin(&mut self, id: usize, spin: [f64; 3]) {
-        if let Some(s) = self.meta.iter().position(|m| m.id as usize == id) {
+        if let Some(s) = self.meta[..self.len()]
+            .iter()
+            .position(|m| m.id as usize == id)
+        {
             let f = self.scale;
             R::set_spin(
                 &mut self.rule_state[s],
@@ -193,7 +196,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     /// Gathers a per-slot quantity into the original particle order.
     pub(super) fn in_original_order<T>(&self, f: impl Fn(usize) -> T) -> Vec<T> {
         let mut slot = vec![0u32; self.len()];
-        for (s, m) in self.meta.iter().enumerate() {
+        for (s, m) in self.meta[..self.len()].iter().enumerate() {
             slot[m.id as usize] = s as u32;
         }
         slot.into_iter().map(|s| f(s as usize)).collect()

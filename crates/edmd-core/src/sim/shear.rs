@@ -36,7 +36,10 @@ impl Shear {
     /// `side` wide, `height` the box's L_y: at rest where the scene is not sheared (`next` = ∞).
     pub(super) fn new<B: Boundary>(rate: f64, height: f64, side: f64) -> Shear {
         if !B::SHEARED {
-            return Shear::default();
+            return Shear {
+                next: f64::INFINITY,
+                ..Shear::default()
+            };
         }
         let speed = rate * height;
         Shear {
@@ -149,12 +152,6 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     #[inline(always)]
     pub(super) fn slides_across(&self, axis: usize) -> bool {
         B::SHEARED && axis == 1
-    }
-
-    /// Whether the images' next shift comes before an event at local time `t`, and so first.
-    #[inline(always)]
-    pub(super) fn shift_before(&self, t: f64) -> bool {
-        B::SHEARED && t > self.shear.next
     }
 
     /// The images' part of a clock rebase to local time `now`.

@@ -54,6 +54,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             let t = e.coll_t.min(e.aux_t);
             self.calendar.schedule(&mut self.meta, i as u32, t);
         }
+        self.file_system_events();
     }
 
     /// Renumbers the slots in cell order (row-major in cell mode, the Z order in list mode) so that
@@ -65,8 +66,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         // near along every axis. Cell mode walks rows of cells, which the row-major order keeps
         // contiguous (docs/benchmarks.md, "Slot order, one-line records and the partners ahead").
         let rank = self.uses_lists().then(|| z_order_ranks(&self.grid.n));
-        let cells: Vec<u32> = self
-            .meta
+        let cells: Vec<u32> = self.meta[..n]
             .iter()
             .map(|m| {
                 let idx = self.grid.index(&m.cell);
@@ -117,7 +117,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         }
         let mut done = vec![false; n];
         permute(&mut self.particles, &perm, &mut done);
-        permute(&mut self.meta, &perm, &mut done);
+        permute(&mut self.meta[..n], &perm, &mut done);
         if std::mem::size_of::<R::State>() > 0 {
             permute(&mut self.rule_state, &perm, &mut done);
         }
