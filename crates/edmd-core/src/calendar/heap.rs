@@ -3,7 +3,7 @@
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 
-use super::{Calendar, HasEntry, NoHints};
+use super::{Calendar, HasEntry};
 
 /// `f64` with a total order, for the oracle heap.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -91,12 +91,6 @@ impl Calendar for HeapCalendar {
 
     fn len(&self) -> usize {
         self.len
-    }
-
-    type Hints = NoHints;
-
-    fn hints(&self) -> &NoHints {
-        &NoHints
     }
 
     fn reset<E: HasEntry>(&mut self, _: &mut [E], _origin: f64, _width: f64) {

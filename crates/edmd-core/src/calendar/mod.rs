@@ -1,4 +1,5 @@
-//! Event calendars: one pending event per particle, earliest first.
+//! Event calendars: one pending event per slot (each particle's, and each kind of system event's),
+//! earliest first.
 //!
 //! [`PaulCalendar`] follows G. Paul, J. Comput. Phys. 221, 615 (2007): time is cut into buckets of a
 //! fixed width; the current bucket is a short array sorted latest first (a pop takes the last
@@ -15,8 +16,8 @@
 //!
 //! Both order events by `(time, particle index)`, so the two produce identical sequences.
 //!
-//! What a calendar knows ahead of its pops (the next particle, the particles of the coming buckets)
-//! is offered separately, as [`Hints`] for prefetching: the oracle offers none ([`NoHints`]).
+//! What the bucket calendar knows ahead of its pops (the next particle, the particles of the coming
+//! buckets) it shows as a read-only [`Peek`], for prefetching; the oracle shows none.
 
 /// One particle's place in a calendar: its filed time and where the calendar keeps it.
 ///
@@ -90,11 +91,13 @@ pub trait Calendar: std::fmt::Debug + Send {
     fn is_empty(&self) -> bool {
         self.len() == 0
     }
-    /// What the calendar can say ahead of its pops, for prefetching ([`Hints`]; [`NoHints`] for a
-    /// calendar that knows nothing ahead, such as the oracle [`HeapCalendar`]).
-    type Hints: Hints;
-    /// The calendar's hints.
-    fn hints(&self) -> &Self::Hints;
+    /// A view of the coming pops, for prefetching, where the calendar has one (the bucket
+    /// calendar's [`Peek`]); none by default, so that a calendar such as the oracle
+    /// [`HeapCalendar`] carries nothing for it.
+    #[inline(always)]
+    fn peek(&self) -> Option<Peek<'_>> {
+        None
+    }
     /// Empties the calendar (every entry of `e` included) and sets its time origin and bucket
     /// width (a hint; `width > 0`).
     fn reset<E: HasEntry>(&mut self, e: &mut [E], origin: f64, width: f64);
@@ -140,9 +143,9 @@ impl<C: Calendar> Standalone<C> {
     pub fn is_empty(&self) -> bool {
         self.calendar.is_empty()
     }
-    /// [`Calendar::hints`].
-    pub fn hints(&self) -> &C::Hints {
-        self.calendar.hints()
+    /// [`Calendar::peek`].
+    pub fn peek(&self) -> Option<Peek<'_>> {
+        self.calendar.peek()
     }
     /// [`Calendar::reset`].
     pub fn reset(&mut self, origin: f64, width: f64) {
@@ -167,11 +170,9 @@ pub(crate) fn earlier(a: (f64, u32), b: (f64, u32)) -> bool {
 }
 
 mod heap;
-mod hints;
 mod paul;
 #[cfg(test)]
 mod tests;
 
 pub use heap::HeapCalendar;
-pub use hints::{Hints, NoHints};
-pub use paul::PaulCalendar;
+pub use paul::{PaulCalendar, Peek};

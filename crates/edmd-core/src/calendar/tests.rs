@@ -187,11 +187,11 @@ fn ahead_names_particles_of_that_bucket() {
         times[i as usize] = t + rng.random::<f64>();
         c.schedule(i, times[i as usize]);
         for k in 1..=5 {
-            for &j in c.hints().ahead(k) {
+            for &j in c.peek().unwrap().ahead(k) {
                 let bucket = (times[j as usize] / width) as i64;
                 assert_eq!(
                     bucket,
-                    c.hints().position() + k as i64,
+                    c.peek().unwrap().position() + k as i64,
                     "particle {j}, {k} ahead"
                 );
                 named += 1;

@@ -47,7 +47,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     }
 
     /// [`Self::step`] for a neighbour strategy fixed at compile time: pop, decode, handle. The
-    /// prefetch hints are the four `hint_*` hooks (`sim/hints.rs`); they change no event.
+    /// prefetch hints are the four `hint_*` hooks (`sim/prefetch.rs`); they change no event.
     #[inline]
     pub(super) fn step_with<S: Search>(&mut self) -> Option<EventKind> {
         let (i, t) = self.calendar.pop(&mut self.meta)?;

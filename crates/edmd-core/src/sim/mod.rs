@@ -34,11 +34,10 @@ mod contact;
 mod cooling;
 mod engine;
 mod event;
-mod hints;
 mod list_gather;
 mod lists;
-mod look_ahead;
 mod params;
+mod prefetch;
 mod query;
 mod run;
 mod scene;
@@ -251,8 +250,8 @@ pub struct Simulation<const D: usize, B: Boundary, R: CollisionRule, C: Calendar
     monitor: CollapseMonitor,
     next_maintenance: u64,
     last_maintenance: (u64, f64),
-    /// The large-system look-ahead (`sim/hints.rs`): on when the state is far larger than a cache.
-    look_ahead: hints::LookAhead,
+    /// The large-system look-ahead (`sim/prefetch.rs`): on when the state is far larger than a cache.
+    look_ahead: prefetch::LookAhead,
     /// Sheared scenes: the sliding images ([`crate::LeesEdwards`]).
     pub(crate) shear: Shear,
     _boundary: PhantomData<B>,
@@ -316,7 +315,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             monitor: CollapseMonitor::default(),
             next_maintenance: 0,
             last_maintenance: (0, 0.0),
-            look_ahead: hints::LookAhead::default(),
+            look_ahead: prefetch::LookAhead::default(),
             shear: Shear::default(),
             _boundary: PhantomData,
         };

@@ -1,9 +1,12 @@
 //! The bucket calendar of G. Paul (2007).
 
-use super::{earlier, Calendar, Entry, HasEntry, Hints};
+use super::{earlier, Calendar, Entry, HasEntry};
 
 mod current;
 mod deferred;
+mod peek;
+
+pub use peek::Peek;
 
 const NONE: u32 = u32::MAX;
 const IN_CURRENT: u32 = 1 << 31;
@@ -237,7 +240,7 @@ impl PaulCalendar {
 
     /// Asks for the next two buckets' lines and the entries of the next one (whose line the
     /// previous advance asked for): the advance after this one then finds them in cache, and
-    /// [`Calendar::next_hint`] can name the next bucket's first entry while the current one is empty.
+    /// [`Peek::next`] can name the next bucket's first entry while the current one is empty.
     #[inline]
     fn prefetch_ahead<E: HasEntry>(&self, e: &[E]) {
         let mask = self.nb - 1;
@@ -359,11 +362,9 @@ impl Calendar for PaulCalendar {
         self.len
     }
 
-    type Hints = Self;
-
     #[inline(always)]
-    fn hints(&self) -> &Self {
-        self
+    fn peek(&self) -> Option<Peek<'_>> {
+        Some(Peek(self))
     }
 
     fn reset<E: HasEntry>(&mut self, e: &mut [E], origin: f64, width: f64) {
@@ -389,52 +390,5 @@ impl Calendar for PaulCalendar {
         self.cur = 0;
         self.in_buckets = 0;
         self.len = 0;
-    }
-}
-
-impl Hints for PaulCalendar {
-    #[inline(always)]
-    fn next_hint(&self) -> Option<u32> {
-        match self.current_first() {
-            Some(h) => Some(h.1),
-            // The current bucket runs dry after its last entry: the next bucket's first is the best
-            // guess (its line was asked for at the last advance).
-            None => {
-                let b = &self.buckets[(self.cur.wrapping_add(1) as u64 as usize) & (self.nb - 1)];
-                (b.len > 0).then_some(b.ids[0])
-            }
-        }
-    }
-
-    #[inline(always)]
-    fn prefetch_filing<E: HasEntry>(&self, e: &[E], i: u32, t: f64) {
-        let k = self.bucket_of(t) - self.cur;
-        if k > 0 && (k as u64) < self.nb as u64 {
-            let b = ((self.cur + k) as u64 as usize) & (self.nb - 1);
-            crate::prefetch::prefetch_at(&self.buckets, b);
-        }
-        if let Some(x) = e.get(i as usize) {
-            let l = x.entry().loc;
-            if l & (IN_CURRENT | IN_OVERFLOW) == 0 {
-                crate::prefetch::prefetch_at(&self.buckets, l as usize);
-            }
-        }
-    }
-
-    #[inline(always)]
-    fn ahead(&self, k: usize) -> &[u32] {
-        let b = &self.buckets[(self.cur.wrapping_add(k as i64) as u64 as usize) & (self.nb - 1)];
-        &b.ids[..(b.len as usize).min(INLINE)]
-    }
-
-    #[inline(always)]
-    fn prefetch_bucket(&self, k: usize) {
-        let b = (self.cur.wrapping_add(k as i64) as u64 as usize) & (self.nb - 1);
-        crate::prefetch::prefetch_at(&self.buckets, b);
-    }
-
-    #[inline(always)]
-    fn position(&self) -> i64 {
-        self.cur
     }
 }
