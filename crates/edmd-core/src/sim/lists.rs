@@ -3,7 +3,8 @@
 
 use std::marker::PhantomData;
 
-use super::shear_lists::{wrapped_now_sheared, ShearWindow};
+use super::shear::ShearWindow;
+use super::shear_lists::wrapped_now_sheared;
 use super::space::{centre_far_from_periodic_faces, rootless_test, smaller, Space};
 use super::{Lists, Meta, Simulation};
 use crate::calendar::Calendar;

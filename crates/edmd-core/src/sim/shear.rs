@@ -8,7 +8,6 @@
 //! visits those four columns, and when Δ reaches the next multiple of w (a *shift*) every particle
 //! of the two outer rows is searched again with m + 1, so no candidate is ever missed.
 
-use super::shear_lists::ShearWindow;
 use super::{Cells, Simulation};
 use crate::calendar::Calendar;
 use crate::cells::NONE;
@@ -29,6 +28,17 @@ pub(crate) struct Shear {
     pub cell: i64,
     /// Local time of the next shift (∞ without shear).
     pub next: f64,
+}
+
+/// The window of a sheared box's list builds: Δ now, Δ at the next shift (when the lists near the
+/// sliding faces are renewed), the images' speed a L_y and the shift count m (Δ ∈ [m w, (m + 1) w]
+/// with w the cell side).
+#[derive(Debug, Clone, Copy)]
+pub(super) struct ShearWindow {
+    pub(super) delta: f64,
+    pub(super) end: f64,
+    pub(super) speed: f64,
+    pub(super) cell: i64,
 }
 
 impl Shear {

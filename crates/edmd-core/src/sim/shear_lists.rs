@@ -8,7 +8,7 @@
 //! columns of `sim/shear.rs`, keeping an image that comes within reach for any Δ up to the next
 //! shift; at the shift every such list is gathered again (`Simulation::shear_shift`).
 
-use super::shear::sliding_row;
+use super::shear::{sliding_row, ShearWindow};
 use super::space::Space;
 use super::Simulation;
 use crate::calendar::Calendar;
@@ -56,17 +56,6 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             limit,
         );
     }
-}
-
-/// The window of a sheared box's list builds: Δ now, Δ at the next shift (when the lists near the
-/// sliding faces are renewed), the images' speed a L_y and the shift count m (Δ ∈ [m w, (m + 1) w]
-/// with w the cell side).
-#[derive(Debug, Clone, Copy)]
-pub(super) struct ShearWindow {
-    pub(super) delta: f64,
-    pub(super) end: f64,
-    pub(super) speed: f64,
-    pub(super) cell: i64,
 }
 
 /// `lists::wrapped_now` in a sheared box: a trajectory past a sliding face is replaced by its image in

@@ -3,8 +3,7 @@
 //! Read-only: nothing here changes which event comes next or when. A calendar without such a view
 //! (the oracle [`crate::calendar::HeapCalendar`]) offers none ([`crate::calendar::Calendar::peek`]).
 
-use super::{PaulCalendar, IN_CURRENT, IN_OVERFLOW, INLINE};
-use crate::calendar::HasEntry;
+use super::{HasEntry, PaulCalendar, IN_CURRENT, IN_OVERFLOW, INLINE};
 
 /// A read-only view of a [`PaulCalendar`]'s coming pops.
 #[derive(Debug, Clone, Copy)]
