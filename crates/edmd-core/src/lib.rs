@@ -30,12 +30,10 @@ mod alloc;
 pub mod boundary;
 pub mod caches;
 pub mod calendar;
-pub mod cells;
 pub mod collide;
 pub mod error;
 pub mod geometry;
 pub mod init;
-pub mod nlist;
 pub mod observe;
 pub mod order;
 pub mod predict;
@@ -53,7 +51,6 @@ pub use boundary::{
     Axes, Boundary, Channel, Column, Container, GravityAxes, LeesEdwards, Periodic, Walls,
 };
 pub use calendar::{Calendar, Entry, HasEntry, HeapCalendar, PaulCalendar, Standalone};
-pub use cells::CellGrid;
 pub use collide::{
     CollisionRule, ConstantRestitution, Elastic, Grain, LastCollision, Law, Remedy, Rough, Rule,
     Smooth, Spin, ThesisRestitution, ThresholdRestitution, Viscoelastic,
@@ -63,6 +60,7 @@ pub use init::{InitParams, Placement, Velocities};
 pub use observe::{decay_rate, Observables, VirialMeter, VirialReading};
 pub use order::{order_parameters, OrderParameters};
 pub use schedule::Schedule;
+pub use sim::neighbours::CellGrid;
 pub use sim::{
     Collapse, CollapseReason, Counters, Engine, EventKind, RunEnd, SimParams, Simulation, Stop,
 };

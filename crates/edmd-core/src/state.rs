@@ -7,7 +7,7 @@ use crate::Vector;
 /// (positions are never advanced between events; `r0` changes only when the velocity does), the
 /// radius, and the link to the next member of the particle's cell (cell mode; in list mode the list
 /// grid links through `NeighbourLists::links` and this field stays unused). In declaration order
-/// (`repr(C)`): the four-wide list scan reads the fields by their offsets (`sim/wide_scan.rs`).
+/// (`repr(C)`): the four-wide list scan reads the fields by their offsets (`sim/neighbours/wide_scan.rs`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[repr(C)]
 pub struct Particle<const D: usize> {
@@ -67,17 +67,6 @@ impl<const D: usize> Particle<D> {
     }
 }
 
-impl<const D: usize> crate::cells::CellLink for Particle<D> {
-    #[inline(always)]
-    fn link(&self) -> u32 {
-        self.next_in_cell
-    }
-    #[inline(always)]
-    fn set_link(&mut self, next: u32) {
-        self.next_in_cell = next;
-    }
-}
-
 /// A particle as given to a constructor: position, velocity, radius, mass.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ParticleInit<const D: usize> {
@@ -94,7 +83,7 @@ pub struct ParticleInit<const D: usize> {
 // One particle record per cache line in 3D, and no larger than its constructor's record (the
 // conversion in `Simulation::new` reuses that allocation).
 const _: () = assert!(std::mem::size_of::<Particle<3>>() == 64);
-// The four-wide 3D scan loads a record as [x y z vx | vy vz radius link] (`sim/wide_scan.rs`).
+// The four-wide 3D scan loads a record as [x y z vx | vy vz radius link] (`sim/neighbours/wide_scan.rs`).
 const _: () = assert!(
     std::mem::offset_of!(Particle<3>, vel) == 24 && std::mem::offset_of!(Particle<3>, radius) == 48
 );

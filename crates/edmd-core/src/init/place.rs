@@ -3,7 +3,7 @@
 use rand::Rng;
 use rand_xoshiro::Xoshiro256PlusPlus;
 
-use crate::cells::{CellGrid, NONE};
+use crate::sim::neighbours::{CellGrid, NONE};
 use crate::{Boundary, EdmdError, Vector};
 
 /// Random sequential addition, checking overlaps through a cell grid: O(N) for moderate φ.

@@ -2,7 +2,7 @@
 
 use super::Simulation;
 use crate::calendar::Calendar;
-use crate::cells::NONE;
+use crate::sim::neighbours::NONE;
 use crate::{Boundary, CollisionRule};
 
 /// Inelastic collapse: infinitely many collisions in a finite time (PHYSICS.md §6.4).

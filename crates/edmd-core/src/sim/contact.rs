@@ -3,8 +3,8 @@
 use nalgebra::Vector3;
 use rand_xoshiro::Xoshiro256PlusPlus;
 
+use super::neighbours::space::image_near;
 use super::shear::PairChange;
-use super::space::image_near;
 use super::Simulation;
 use crate::calendar::Calendar;
 use crate::predict::approaching;

@@ -1,10 +1,8 @@
 //! The step: one event popped, decoded once, and handed to the handler of its kind; the next shell
 //! exit or wall contact of list mode.
 
-use super::{Aux, Cells, Lists, Search, Simulation};
+use super::{Aux, Cells, Lists, Search, Simulation, NONE};
 use crate::calendar::Calendar;
-use crate::cells::NONE;
-use crate::nlist::NeighbourLists;
 use crate::{Boundary, CollisionRule};
 
 /// What an event was, with original particle indices.
@@ -134,7 +132,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     /// Records the candidate `(coll_t, partner)` of slot `i` and files its next event.
     #[inline]
     pub(super) fn store<S: Search>(&mut self, i: usize, coll_t: f64, partner: u32) {
-        let aux = self.aux_event::<S>(i);
+        let aux = S::next_exit(self, i);
         let t = self.set_event(i, coll_t, partner, aux);
         self.calendar.schedule(&mut self.meta, i as u32, t);
     }
@@ -142,30 +140,9 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     /// Predicts slot `i`'s next event and records it without filing it; returns its time.
     #[inline]
     pub(super) fn predict_event<S: Search>(&mut self, i: usize) -> f64 {
-        let aux = self.aux_event::<S>(i);
-        let (coll_t, partner) = self.search::<S>(i, aux.0);
+        let aux = S::next_exit(self, i);
+        let (coll_t, partner) = S::search(self, i, aux.0);
         self.set_event(i, coll_t, partner, aux)
-    }
-
-    /// Earliest contact of slot `i` (at now) with any neighbour. In list mode only contacts up to
-    /// `horizon` (the particle's own next shell exit or wall contact, after which it searches again)
-    /// are sought; cell mode finds the earliest whatever its time, since crossings rely on it.
-    #[inline]
-    pub(super) fn search<S: Search>(&self, i: usize, horizon: f64) -> (f64, u32) {
-        let none = (f64::INFINITY, NONE);
-        match S::lists(&self.nl) {
-            Some(nl) => self.search_list(nl, i, none, horizon),
-            None => self.search_cells(i, None, none),
-        }
-    }
-
-    /// Slot `i`'s next crossing, shell exit or wall contact.
-    #[inline]
-    pub(super) fn aux_event<S: Search>(&self, i: usize) -> (f64, Aux) {
-        match S::lists(&self.nl) {
-            Some(nl) => self.aux_event_list(nl, i),
-            None => self.aux_event_cells(i),
-        }
     }
 
     /// Records particle `i`'s collision candidate and its next crossing, shell exit or wall contact
@@ -191,36 +168,5 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         };
         self.meta[i].aux = aux;
         coll_t.min(aux_t)
-    }
-
-    /// Neighbour-list mode: the shell exit or wall contact of slot `i` (at now), whichever is first.
-    #[inline]
-    pub(super) fn aux_event_list(&self, nl: &NeighbourLists<D>, i: usize) -> (f64, Aux) {
-        let now = self.now;
-        let p = &self.particles[i];
-        let pos = p.at(now);
-        let u = pos - nl.centre[i];
-        let v2 = p.vel.norm_squared();
-        let mut best = (f64::INFINITY, Aux::ShellExit);
-        if v2 > 0.0 {
-            // Positive root of |u + v s|² = h² with |u| ≤ h (up to round-off), cancellation-free.
-            let b = u.dot(&p.vel);
-            let c = (u.norm_squared() - nl.shell * nl.shell).min(0.0);
-            let q = (b * b - v2 * c).sqrt();
-            let s = if b > 0.0 { -c / (b + q) } else { (q - b) / v2 };
-            best.0 = now + s;
-        }
-        for a in 0..D {
-            let v = p.vel[a];
-            if !B::is_wall(a) || v == 0.0 {
-                continue;
-            }
-            let up = v > 0.0;
-            let t = now + self.wall_ahead(p, a, up);
-            if t < best.0 {
-                best = (t, Aux::Wall { axis: a as u8, up });
-            }
-        }
-        best
     }
 }

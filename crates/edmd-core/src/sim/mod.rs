@@ -11,7 +11,7 @@
 //! collision both partners are predicted against their whole 3^D neighbourhood; after a crossing the
 //! particle keeps its still-valid candidate and searches only the 3^(D−1) newly adjacent cells.
 //!
-//! With neighbour lists ([`crate::nlist`]) the auxiliary event is the exit from the particle's shell
+//! With neighbour lists ([`crate::sim::neighbours`]) the auxiliary event is the exit from the particle's shell
 //! (or a wall contact), and a full prediction scans the particle's list instead of its cells.
 //!
 //! Time is a local clock, rebased to zero every few `N` events together with a re-tuning of the
@@ -23,32 +23,26 @@ use rand::SeedableRng;
 use rand_xoshiro::Xoshiro256PlusPlus;
 
 use crate::calendar::{Calendar, Entry, HasEntry, PaulCalendar};
-use crate::cells::{CellGrid, NONE};
-use crate::nlist::NeighbourLists;
 use crate::{Boundary, CollisionRule, EdmdError, Particle, ParticleInit, Vector};
 
-mod cell_search;
 mod checks;
 mod collapse;
 mod contact;
 mod cooling;
 mod engine;
 mod event;
-mod list_gather;
-mod lists;
+pub(crate) mod neighbours;
 mod params;
 mod prefetch;
 mod query;
 mod run;
 mod scene;
 mod shear;
-mod shear_lists;
-mod space;
 mod system;
 mod upkeep;
-mod wide_scan;
 
 use collapse::CollapseMonitor;
+use neighbours::{neighbour_search, CellGrid, Cells, Lists, NeighbourLists, Search, NONE};
 use shear::Shear;
 use system::SystemEvent;
 
@@ -83,44 +77,6 @@ pub(crate) enum Aux {
     System(SystemEvent),
 }
 
-/// How a simulation finds its neighbours, fixed at construction: [`Cells`] or [`Lists`]. The event
-/// loop is compiled once for each, and the choice is made once per [`Simulation::step`] or per
-/// run ([`Simulation::uses_lists`]), never inside a search.
-///
-/// The cell grid serves both (list mode files shell centres in cells of side σ + δ); the lists are
-/// list mode's own data, which [`Search::lists`] hands out: never for [`Cells`], so the cell-mode
-/// loop holds no list code at all, and always for [`Lists`].
-pub(crate) trait Search {
-    /// Neighbour lists with a skin (else cell crossings).
-    const LISTS: bool;
-    /// The neighbour lists, where this strategy has them.
-    fn lists<const D: usize>(nl: &Option<NeighbourLists<D>>) -> Option<&NeighbourLists<D>>;
-}
-
-/// Cell mode: crossings between cells of side ≥ the largest diameter.
-#[derive(Debug)]
-pub(crate) struct Cells;
-
-/// Neighbour-list mode: shells of skin δ ([`SimParams::neighbour_skin`]).
-#[derive(Debug)]
-pub(crate) struct Lists;
-
-impl Search for Cells {
-    const LISTS: bool = false;
-    #[inline(always)]
-    fn lists<const D: usize>(_: &Option<NeighbourLists<D>>) -> Option<&NeighbourLists<D>> {
-        None
-    }
-}
-
-impl Search for Lists {
-    const LISTS: bool = true;
-    #[inline(always)]
-    fn lists<const D: usize>(nl: &Option<NeighbourLists<D>>) -> Option<&NeighbourLists<D>> {
-        nl.as_ref()
-    }
-}
-
 /// Per-particle pending event.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct EventSlot {
@@ -146,7 +102,7 @@ pub(crate) struct Meta<const D: usize> {
     pub mass: f64,
     /// Original index of the particle (slots are renumbered in cell order for locality).
     pub id: u32,
-    /// Cell coordinates, 16 bits per axis (the grid has at most [`crate::cells::MAX_PER_AXIS`]
+    /// Cell coordinates, 16 bits per axis (the grid has at most [`crate::sim::neighbours::MAX_PER_AXIS`]
     /// cells per axis), so that a 3D record, too, fills one cache line: [`Meta::cell`].
     pub cell: [u16; D],
     /// The event at `ev.aux_t` (here rather than in `ev`, so that it shares the padding after
@@ -176,10 +132,12 @@ impl<const D: usize> Meta<D> {
         self.cell.map(u32::from)
     }
 
-    /// Sets the cell coordinates (each below [`crate::cells::MAX_PER_AXIS`]).
+    /// Sets the cell coordinates (each below [`crate::sim::neighbours::MAX_PER_AXIS`]).
     #[inline(always)]
     pub fn set_cell(&mut self, c: [u32; D]) {
-        debug_assert!(c.iter().all(|&x| (x as usize) < crate::cells::MAX_PER_AXIS));
+        debug_assert!(c
+            .iter()
+            .all(|&x| (x as usize) < crate::sim::neighbours::MAX_PER_AXIS));
         self.cell = c.map(|x| x as u16);
     }
 }
@@ -366,30 +324,4 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             _boundary: PhantomData,
         }
     }
-}
-
-/// The cell grid and, where the scene and density call for them, the neighbour lists: lists with
-/// their own grid of cells of side σ + δ, or cells of one diameter.
-fn neighbour_search<const D: usize, B: Boundary>(
-    box_len: &Vector<D>,
-    particles: &[ParticleInit<D>],
-    params: &SimParams,
-    max_d: f64,
-) -> Result<(CellGrid<D>, Option<NeighbourLists<D>>), EdmdError> {
-    let skin = params.neighbour_skin * max_d;
-    let list_grid = (skin > 0.0 && lists_possible::<B>())
-        .then(|| CellGrid::new(box_len, max_d + skin, max_d * params.cell_factor).ok())
-        .flatten()
-        .filter(scene::list_grid_fits::<D, B>);
-    Ok(match list_grid {
-        Some(g) => {
-            let mut nl = NeighbourLists::new(particles.len(), skin, max_d);
-            nl.same_radius = particles.iter().all(|p| p.radius == particles[0].radius);
-            (g, Some(nl))
-        }
-        None => (
-            CellGrid::new(box_len, max_d, max_d * params.cell_factor)?,
-            None,
-        ),
-    })
 }

@@ -26,7 +26,7 @@ pub struct SimParams {
     /// bounces keep a height of at least ~ε_w²δ²/(2g).
     pub wall_threshold: f64,
     /// Neighbour lists instead of cell crossings (0, the default, for cells): the skin `δ` in units
-    /// of the largest diameter (see [`crate::nlist`]). Pays in dense packings, where particles need
+    /// of the largest diameter (see [`crate::sim::neighbours`]). Pays in dense packings, where particles need
     /// many collisions to move `δ/2`; ignored under gravity and where the box holds fewer than three
     /// cells of side `σ + δ`.
     pub neighbour_skin: f64,

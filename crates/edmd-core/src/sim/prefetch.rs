@@ -52,11 +52,10 @@
 //! neighbourhood's rows are unrolled loops over fixed offsets, addresses skip the bounds check
 //! (a hint never faults), and an empty cell asks for slot 0 rather than branch.
 
-
 use super::{Aux, Search, Simulation};
 use crate::calendar::{Calendar, Peek};
-use crate::cells::NONE;
 use crate::prefetch::{prefetch_at, prefetch_record_at};
+use crate::sim::neighbours::NONE;
 use crate::{Boundary, CollisionRule};
 /// The state of the large-system look-ahead.
 #[derive(Debug, Clone, Copy, Default)]
@@ -78,7 +77,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         if let Some(next) = peek.next() {
             prefetch_at(&self.particles, next as usize);
             prefetch_at(&self.meta, next as usize);
-            if let Some(nl) = S::lists(&self.nl) {
+            if let (true, Some(nl)) = (S::LISTS, &self.nl) {
                 nl.prefetch(next as usize);
             }
         }
@@ -103,7 +102,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             self.prefetch_heads_around(i);
             self.prefetch_heads_around(j);
         }
-        if let Some(nl) = S::lists(&self.nl) {
+        if let (true, Some(nl)) = (S::LISTS, &self.nl) {
             nl.prefetch(j);
             if self.look_ahead.on {
                 self.prefetch_listed(nl, j);
@@ -142,7 +141,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
 
     /// Asks for the records of slot `i`'s listed partners, which a scan of its list reads.
     #[inline(always)]
-    pub(super) fn prefetch_listed(&self, nl: &crate::nlist::NeighbourLists<D>, i: usize) {
+    pub(super) fn prefetch_listed(&self, nl: &crate::sim::neighbours::NeighbourLists<D>, i: usize) {
         for &k in nl.of(i) {
             prefetch_at(&self.particles, k as usize);
         }
@@ -174,7 +173,6 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         }
     }
 }
-
 
 /// How many buckets ahead each stage works (module docs), farthest first.
 const RECORDS: usize = 4;

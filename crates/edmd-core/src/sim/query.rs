@@ -3,7 +3,7 @@
 
 use super::{Meta, Simulation};
 use crate::calendar::Calendar;
-use crate::cells::{CellGrid, NONE};
+use crate::sim::neighbours::{CellGrid, NONE};
 use crate::{Boundary, CollisionRule, Counters, Particle, Vector};
 
 impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B, R, C> {
@@ -25,7 +25,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     /// list mode and through the records themselves in cell mode (for the walks outside the event
     /// loop's own, which know their mode).
     ///
-    /// [`NeighbourLists::links`]: crate::nlist::NeighbourLists::links
+    /// [`NeighbourLists::links`]: crate::sim::neighbours::NeighbourLists::links
     #[inline]
     pub(super) fn next_in_cell(&self, k: u32) -> u32 {
         match &self.nl {
@@ -90,7 +90,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     }
 
     /// Whether list scans test four partners at once (x86-64 processors with AVX2;
-    /// `sim/wide_scan.rs`).
+    /// `sim/neighbours/wide_scan.rs`).
     pub fn wide_scan(&self) -> bool {
         self.nl.as_ref().is_some_and(|nl| nl.wide)
     }

@@ -8,8 +8,8 @@
 //! [`Simulation::fall_exit`], [`Simulation::wall_ahead`] and [`Simulation::wall`] whatever the scene.
 
 use super::{Aux, Simulation};
+use super::{CellGrid, NONE};
 use crate::calendar::Calendar;
-use crate::cells::{CellGrid, NONE};
 use crate::predict::{fall_time, reach_time, rise_time};
 use crate::{Boundary, CollisionRule, EdmdError, Particle, SimParams, Vector};
 
@@ -21,7 +21,7 @@ pub(crate) fn lists_possible<B: Boundary>() -> bool {
 }
 
 /// Whether a list grid suits scene `B`: a sheared box needs four distinct columns across the
-/// sliding faces (`sim/shear_lists.rs`).
+/// sliding faces (`sim/neighbours/shear_lists.rs`).
 pub(super) fn list_grid_fits<const D: usize, B: Boundary>(grid: &CellGrid<D>) -> bool {
     !B::SHEARED || grid.n[0] >= 4
 }

@@ -10,7 +10,7 @@
 
 use super::{Cells, Simulation};
 use crate::calendar::Calendar;
-use crate::cells::NONE;
+use crate::sim::neighbours::NONE;
 use crate::{Boundary, CollisionRule, Particle, Vector};
 
 /// The state of the sliding images of a sheared scene: Δ(now) = `offset` + `speed` · now, taken
@@ -142,7 +142,11 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     /// List mode: whether slot i's listed partners may sit across a sliding face
     /// ([`Self::near_sliding_face`]; never where the scene is not sheared).
     #[inline(always)]
-    pub(super) fn slides_near(&self, nl: &crate::nlist::NeighbourLists<D>, i: usize) -> bool {
+    pub(super) fn slides_near(
+        &self,
+        nl: &crate::sim::neighbours::NeighbourLists<D>,
+        i: usize,
+    ) -> bool {
         B::SHEARED && self.near_sliding_face(nl, i)
     }
 
@@ -326,7 +330,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
 
     /// The shift: Δ reached the next multiple of the cell side. The clock moves to it and every
     /// particle of the two outer rows is searched again with the stencil moved by one column (in
-    /// list mode: its list is renewed for the next window, `sim/lists.rs`).
+    /// list mode: its list is renewed for the next window, `sim/neighbours/list_search.rs`).
     #[cold]
     pub(super) fn shear_shift(&mut self) {
         self.now = self.shear.next;

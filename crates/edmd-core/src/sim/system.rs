@@ -11,7 +11,7 @@
 
 use super::{Aux, EventSlot, Meta, Simulation};
 use crate::calendar::{Calendar, Entry};
-use crate::cells::NONE;
+use crate::sim::neighbours::NONE;
 use crate::{Boundary, CollisionRule};
 
 /// A kind of system event, each with its own calendar slot.

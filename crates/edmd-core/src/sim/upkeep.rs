@@ -3,7 +3,7 @@
 
 use super::{Cells, Lists, Search, Simulation};
 use crate::calendar::Calendar;
-use crate::cells::NONE;
+use crate::sim::neighbours::NONE;
 use crate::{Boundary, CollisionRule};
 
 /// Events per calendar bucket the re-tuning aims at.

@@ -3,7 +3,7 @@
 //! Read-only: nothing here changes which event comes next or when. A calendar without such a view
 //! (the oracle [`crate::calendar::HeapCalendar`]) offers none ([`crate::calendar::Calendar::peek`]).
 
-use super::{HasEntry, PaulCalendar, IN_CURRENT, IN_OVERFLOW, INLINE};
+use super::{HasEntry, PaulCalendar, INLINE, IN_CURRENT, IN_OVERFLOW};
 
 /// A read-only view of a [`PaulCalendar`]'s coming pops.
 #[derive(Debug, Clone, Copy)]

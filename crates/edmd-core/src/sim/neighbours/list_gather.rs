@@ -1,18 +1,18 @@
 //! List mode's search around a shell centre: the particles whose centres lie within reach, found
-//! in the cells around it (list builds and renewals, `sim/lists.rs`).
+//! in the cells around it (list builds and renewals, `sim/neighbours/list_search.rs`).
 
 use super::space::{centre_far_from_periodic_faces, image_near, Space};
 #[cfg(target_arch = "x86_64")]
 use super::wide_scan::within_reach_wide;
-use crate::cells::NONE;
-use crate::nlist::NeighbourLists;
+use super::NeighbourLists;
+use super::NONE;
 use crate::{Boundary, Vector};
 
 impl<const D: usize> NeighbourLists<D> {
     /// Hands `found` every particle whose shell centre lies within `σ + δ` of slot `i`'s, found in
     /// the 3^D cells around `i`'s cell; with `later_only`, only slots above `i` (full builds). `ci` is `i`'s cell.
     #[inline(always)]
-    pub(super) fn gather<B: Boundary>(
+    pub(in crate::sim) fn gather<B: Boundary>(
         &mut self,
         space: &Space<'_, D, B>,
         ci: &[u32; D],
@@ -59,7 +59,7 @@ impl<const D: usize> NeighbourLists<D> {
     #[inline(always)]
     fn first_members<B: Boundary>(
         &self,
-        grid: &crate::cells::CellGrid<D>,
+        grid: &super::CellGrid<D>,
         ci: &[u32; D],
         centre: &Vector<D>,
     ) -> ([u32; 27], usize) {

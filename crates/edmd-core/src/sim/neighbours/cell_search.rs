@@ -1,10 +1,11 @@
 //! Cell mode: collision search over the 3^D neighbour cells, the next crossing or wall contact, and
 //! the crossing itself.
 
-use super::{Aux, Cells, Simulation};
+use super::Cells;
+use super::NONE;
 use crate::calendar::Calendar;
-use crate::cells::NONE;
 use crate::predict::{pair_time, reach_time, select};
+use crate::sim::{Aux, Simulation};
 use crate::{Boundary, CollisionRule, Particle, Vector};
 
 impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B, R, C> {
@@ -16,7 +17,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     /// collisions and crossings, were both to share one copy); a cell at the box's edge goes out
     /// of line to [`Self::search_edge_cells`].
     #[inline(always)]
-    pub(super) fn search_cells(
+    pub(in crate::sim) fn search_cells(
         &self,
         i: usize,
         only: Option<(usize, i32)>,
@@ -130,7 +131,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
 
     /// Earliest contact of particle `i` (state `pi`, position image `ri`) with the members of cell `idx`.
     #[inline(always)]
-    pub(super) fn scan_cell(
+    pub(in crate::sim) fn scan_cell(
         &self,
         idx: usize,
         i: usize,
@@ -177,7 +178,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
 
     /// Next cell crossing or wall contact of particle `i` (at now).
     #[inline]
-    pub(super) fn aux_event_cells(&self, i: usize) -> (f64, Aux) {
+    pub(in crate::sim) fn aux_event_cells(&self, i: usize) -> (f64, Aux) {
         let p = &self.particles[i];
         let c = &self.meta[i].cell;
         let mut best = self.fall_exit(p, c);
@@ -218,7 +219,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
 
     /// Moves particle `i` into the neighbouring cell along `axis` and searches the new neighbours.
     #[inline]
-    pub(super) fn cross(&mut self, i: usize, axis: usize, up: bool) {
+    pub(in crate::sim) fn cross(&mut self, i: usize, axis: usize, up: bool) {
         self.counters.crossings += 1;
         let old = self.grid.index(&self.meta[i].cell);
         let n = self.grid.n[axis] as u16;
@@ -253,7 +254,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         if sheared {
             // A new trajectory: a full search, as after a collision.
             let (t, partner) = self.search_all_cells(i);
-            self.store::<super::Cells>(i, t, partner);
+            self.store::<Cells>(i, t, partner);
             return;
         }
         // Only the cells that just became adjacent need a search, unless the candidate went stale.

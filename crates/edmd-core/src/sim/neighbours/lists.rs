@@ -13,7 +13,7 @@
 //! In a dense gas a particle rattles in its cage: it needs many collisions to travel `δ/2`, while a
 //! prediction scans ~10 listed partners instead of the ~23 occupants of 27 cells (3D, φ = 0.45).
 
-use crate::cells::NONE;
+use super::NONE;
 use crate::Vector;
 
 /// The top bit of a slot's `len` entry: its shell centre is far from every periodic face
@@ -42,13 +42,13 @@ pub(crate) struct NeighbourLists<const D: usize> {
     /// Per slot, the renewal stamp that last marked it ([`Self::renew`]): membership in the old and
     /// the new list is read off it instead of searching one list for each entry of the other.
     mark: Vec<u32>,
-    /// Each slot's link in the list grid's cells ([`crate::cells::CellLink`]): in list mode the grid
+    /// Each slot's link in the list grid's cells ([`crate::sim::neighbours::CellLink`]): in list mode the grid
     /// links through this array, not through the records (whose own link then stays unused), so
     /// that a renewal walks its cells by four bytes a member instead of each member's record.
     pub(crate) links: Vec<u32>,
     /// The stamp of the last renewal (even; the odd one above it marks "in both lists").
     stamp: u32,
-    /// Whether list scans test four partners at once (`sim/wide_scan.rs`): where the processor
+    /// Whether list scans test four partners at once (`sim/neighbours/wide_scan.rs`): where the processor
     /// can; [`Self::use_portable_scan`] turns it off.
     pub wide: bool,
     /// Whether every particle has the same radius (set by the engine at construction; radii never

@@ -59,6 +59,17 @@ impl CellLink for u32 {
     }
 }
 
+impl<const D: usize> CellLink for crate::Particle<D> {
+    #[inline(always)]
+    fn link(&self) -> u32 {
+        self.next_in_cell
+    }
+    #[inline(always)]
+    fn set_link(&mut self, next: u32) {
+        self.next_in_cell = next;
+    }
+}
+
 impl<const D: usize> CellGrid<D> {
     /// A grid over a box `box_len`, with cells of side at least `min_side` (close to `target_side`
     /// when that is larger).

@@ -1,5 +1,5 @@
 //! The list scan's cheap test four partners at a time, on x86-64 processors with AVX2 (chosen at
-//! run time: [`crate::nlist::wide_scan_available`]).
+//! run time: [`crate::sim::neighbours::wide_scan_available`]).
 //!
 //! [`Simulation::scan_list`] tests partners two at a time in SSE2 registers, which the x86-64
 //! baseline guarantees; gathering each pair's seven numbers into lanes and unpacking them costs more
@@ -17,10 +17,10 @@
 use std::arch::x86_64::*;
 
 use super::space::{rootless_test, smaller, Space};
-use super::Simulation;
+use super::NeighbourLists;
 use crate::calendar::Calendar;
-use crate::nlist::NeighbourLists;
 use crate::predict::APPROACH_TOLERANCE;
+use crate::sim::Simulation;
 use crate::state::Particle;
 use crate::{Boundary, CollisionRule};
 
@@ -31,10 +31,14 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     ///
     /// # Safety
     /// The processor must support AVX2, and `n` times the particle record's length in `f64` words
-    /// must fit an `i32` ([`crate::nlist::wide_scan_available`]).
+    /// must fit an `i32` ([`crate::sim::neighbours::wide_scan_available`]).
     #[target_feature(enable = "avx2")]
     #[allow(unsafe_code)]
-    pub(super) unsafe fn scan_list_wide<const WRAP: bool, const SHEAR: bool, const SAME: bool>(
+    pub(in crate::sim) unsafe fn scan_list_wide<
+        const WRAP: bool,
+        const SHEAR: bool,
+        const SAME: bool,
+    >(
         &self,
         nl: &NeighbourLists<D>,
         i: usize,
@@ -274,7 +278,7 @@ unsafe fn pairs_of_lanes(p: [*const f64; 4], offset: usize) -> [__m256d; 4] {
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 #[allow(unsafe_code, clippy::too_many_arguments)]
-pub(super) unsafe fn within_reach_wide<
+pub(in crate::sim) unsafe fn within_reach_wide<
     const D: usize,
     B: Boundary,
     const WRAP: bool,

@@ -4,21 +4,21 @@
 
 use std::marker::PhantomData;
 
-use crate::cells::CellGrid;
+use super::CellGrid;
 use crate::{Boundary, Particle, Vector};
 
-/// What [`crate::nlist::NeighbourLists::gather`] reads of the simulation.
-pub(super) struct Space<'a, const D: usize, B> {
-    pub(super) particles: &'a [Particle<D>],
-    pub(super) grid: &'a CellGrid<D>,
-    pub(super) box_len: &'a Vector<D>,
-    pub(super) half_box: &'a Vector<D>,
-    pub(super) _boundary: PhantomData<B>,
+/// What [`crate::sim::neighbours::NeighbourLists::gather`] reads of the simulation.
+pub(in crate::sim) struct Space<'a, const D: usize, B> {
+    pub(in crate::sim) particles: &'a [Particle<D>],
+    pub(in crate::sim) grid: &'a CellGrid<D>,
+    pub(in crate::sim) box_len: &'a Vector<D>,
+    pub(in crate::sim) half_box: &'a Vector<D>,
+    pub(in crate::sim) _boundary: PhantomData<B>,
 }
 
 /// The image of `x` nearest to `y` across the periodic faces of a box of sides `box_len`.
 #[inline(always)]
-pub(super) fn image_near<const D: usize, B: Boundary>(
+pub(in crate::sim) fn image_near<const D: usize, B: Boundary>(
     box_len: &Vector<D>,
     half_box: &Vector<D>,
     x: &Vector<D>,
@@ -42,7 +42,7 @@ pub(super) fn image_near<const D: usize, B: Boundary>(
 /// below half the box: then every point within `margin` of it is its own nearest image, and so
 /// is every separation up to `span` between points on the same side of the faces.
 #[inline(always)]
-pub(super) fn centre_far_from_periodic_faces<const D: usize, B: Boundary>(
+pub(in crate::sim) fn centre_far_from_periodic_faces<const D: usize, B: Boundary>(
     box_len: &Vector<D>,
     half_box: &Vector<D>,
     c: &Vector<D>,
@@ -58,7 +58,7 @@ pub(super) fn centre_far_from_periodic_faces<const D: usize, B: Boundary>(
 /// now): `f64::min` without its NaN handling, three instructions less on x86-64 for the same value
 /// (for equal arguments either is the same number; a scan's bounds are never −0).
 #[inline(always)]
-pub(super) fn smaller(a: f64, b: f64) -> f64 {
+pub(in crate::sim) fn smaller(a: f64, b: f64) -> f64 {
     if b < a {
         b
     } else {
@@ -71,7 +71,7 @@ pub(super) fn smaller(a: f64, b: f64) -> f64 {
 /// that rejects most partners, with a margin for round-off so that it never rejects one the root
 /// keeps (the bound is ≤ 0 wherever b < 0, so the margin widens it by a factor).
 #[inline(always)]
-pub(super) fn rootless_test(b: f64, room: f64, limit: f64) -> bool {
+pub(in crate::sim) fn rootless_test(b: f64, room: f64, limit: f64) -> bool {
     let bound = 2.0 * b * limit;
     (b < 0.0) & (room >= bound * (1.0 + 1e-9))
 }

@@ -1,25 +1,57 @@
-//! Neighbour-list mode ([`crate::nlist`]): list builds and renewals at shell exits, and the search
-//! over a particle's list (the sheared box's parts: `sim/shear_lists.rs`).
+//! Neighbour-list mode ([`crate::sim::neighbours`]): list builds and renewals at shell exits, and the search
+//! over a particle's list (the sheared box's parts: `sim/neighbours/shear_lists.rs`).
 
 use std::marker::PhantomData;
 
-use super::shear::ShearWindow;
 use super::shear_lists::wrapped_now_sheared;
 use super::space::{centre_far_from_periodic_faces, rootless_test, smaller, Space};
-use super::{Lists, Meta, Simulation};
+use super::CellGrid;
+use super::Lists;
+use super::NeighbourLists;
 use crate::calendar::Calendar;
-use crate::cells::CellGrid;
-use crate::nlist::NeighbourLists;
 use crate::predict::pair_time;
+use crate::sim::shear::ShearWindow;
+use crate::sim::{Aux, Meta, Simulation};
 use crate::{Boundary, CollisionRule, Particle, Vector};
 
 /// Partners per group of the list scan's cheap test (two SSE2 registers of `f64`).
 const LANES: usize = 2;
 
 impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B, R, C> {
+    /// Neighbour-list mode: the shell exit or wall contact of slot `i` (at now), whichever is first.
+    #[inline]
+    pub(in crate::sim) fn aux_event_list(&self, nl: &NeighbourLists<D>, i: usize) -> (f64, Aux) {
+        let now = self.now;
+        let p = &self.particles[i];
+        let pos = p.at(now);
+        let u = pos - nl.centre[i];
+        let v2 = p.vel.norm_squared();
+        let mut best = (f64::INFINITY, Aux::ShellExit);
+        if v2 > 0.0 {
+            // Positive root of |u + v s|² = h² with |u| ≤ h (up to round-off), cancellation-free.
+            let b = u.dot(&p.vel);
+            let c = (u.norm_squared() - nl.shell * nl.shell).min(0.0);
+            let q = (b * b - v2 * c).sqrt();
+            let s = if b > 0.0 { -c / (b + q) } else { (q - b) / v2 };
+            best.0 = now + s;
+        }
+        for a in 0..D {
+            let v = p.vel[a];
+            if !B::is_wall(a) || v == 0.0 {
+                continue;
+            }
+            let up = v > 0.0;
+            let t = now + self.wall_ahead(p, a, up);
+            if t < best.0 {
+                best = (t, Aux::Wall { axis: a as u8, up });
+            }
+        }
+        best
+    }
+
     /// Neighbour-list mode: draws every shell around the particle's current position, files each
     /// particle in the cell of its centre and fills all lists from scratch.
-    pub(super) fn build_lists(&mut self) {
+    pub(in crate::sim) fn build_lists(&mut self) {
         let Some(mut l) = self.list_parts() else {
             return;
         };
@@ -42,7 +74,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     /// neighbours, and a new prediction. Its trajectory is unchanged (in a sheared box it may be
     /// replaced by its image in the box, which names it anew), so every other particle's event stays
     /// valid.
-    pub(super) fn renew_list(&mut self, i: usize) {
+    pub(in crate::sim) fn renew_list(&mut self, i: usize) {
         let Some(mut l) = self.list_parts() else {
             return;
         };
@@ -96,7 +128,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     /// (absolute time; the particle's shell exit or wall contact, which comes first otherwise and
     /// is followed by a new search).
     #[inline]
-    pub(super) fn search_list(
+    pub(in crate::sim) fn search_list(
         &self,
         nl: &NeighbourLists<D>,
         i: usize,
@@ -239,7 +271,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     /// One partner `j` of the list scan: the test without the root, then the exact contact time,
     /// which replaces `best` (and tightens `limit`, relative to now) when it is earlier.
     #[inline(always)]
-    pub(super) fn consider<const WRAP: bool>(
+    pub(in crate::sim) fn consider<const WRAP: bool>(
         &self,
         pi: &crate::state::Particle<D>,
         pos_i: &Vector<D>,
@@ -274,7 +306,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     /// which replaces `best` (and tightens `limit`, relative to now) when it is earlier.
     #[inline(always)]
     #[allow(clippy::too_many_arguments)]
-    pub(super) fn keep_if_earlier(
+    pub(in crate::sim) fn keep_if_earlier(
         &self,
         dr: &Vector<D>,
         dv: &Vector<D>,

@@ -8,12 +8,12 @@
 //! columns of `sim/shear.rs`, keeping an image that comes within reach for any Δ up to the next
 //! shift; at the shift every such list is gathered again (`Simulation::shear_shift`).
 
-use super::shear::{sliding_row, ShearWindow};
 use super::space::Space;
-use super::Simulation;
+use super::NeighbourLists;
+use super::NONE;
 use crate::calendar::Calendar;
-use crate::cells::NONE;
-use crate::nlist::NeighbourLists;
+use crate::sim::shear::{sliding_row, ShearWindow};
+use crate::sim::Simulation;
 use crate::{Boundary, CollisionRule, Particle, Vector};
 
 impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B, R, C> {
@@ -24,7 +24,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     /// periodic images along x and z that [`Self::scan_list`] takes are the ones
     /// `sheared_image_near` takes, to the bit.
     #[inline(always)]
-    pub(super) fn near_sliding_face(&self, nl: &NeighbourLists<D>, i: usize) -> bool {
+    pub(in crate::sim) fn near_sliding_face(&self, nl: &NeighbourLists<D>, i: usize) -> bool {
         let y = nl.centre[i][1];
         nl.max_reach + nl.skin >= self.half_box[1]
             || !(y > nl.max_reach && y < self.box_len[1] - nl.max_reach)
@@ -33,7 +33,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     /// [`Self::consider`] across the sliding faces of a sheared box: the partner's image is the one
     /// [`Self::collide`] takes (`sheared_image_near`), with its sliding velocity.
     #[inline(always)]
-    pub(super) fn consider_sheared(
+    pub(in crate::sim) fn consider_sheared(
         &self,
         pi: &crate::state::Particle<D>,
         pos_i: &Vector<D>,
@@ -61,7 +61,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
 /// `lists::wrapped_now` in a sheared box: a trajectory past a sliding face is replaced by its image in
 /// the box (y ∓ L_y, x ∓ Δ, v_x ∓ a L_y: the same motion), which names the grain anew; x and z
 /// wrap by whole box lengths.
-pub(super) fn wrapped_now_sheared<const D: usize>(
+pub(in crate::sim) fn wrapped_now_sheared<const D: usize>(
     p: &mut Particle<D>,
     now: f64,
     box_len: &Vector<D>,
@@ -98,7 +98,7 @@ impl<const D: usize> NeighbourLists<D> {
     /// in the window (`sim/shear.rs`), and an image counts if it comes within reach for some Δ up
     /// to the window's end (the x gap then closes by up to `end − delta`). Scalar: few grains live
     /// in the two outer rows.
-    pub(super) fn gather_sheared<B: Boundary>(
+    pub(in crate::sim) fn gather_sheared<B: Boundary>(
         &mut self,
         space: &Space<'_, D, B>,
         w: &ShearWindow,
