@@ -73,7 +73,7 @@ fn measure<const D: usize, B: Boundary>(
     let mut p = InitParams::<D>::with_packing(case.n, case.phi).map_err(|e| e.to_string())?;
     p.seed = 1;
     p.melt_tau = Some(melt_tau);
-    if B::SHEARED {
+    if case.shear_rate > 0.0 {
         p.sim = Some(edmd::SimParams {
             shear_rate: case.shear_rate,
             ..p.default_sim_params()

@@ -3,7 +3,6 @@
 use nalgebra::Vector3;
 use rand_xoshiro::Xoshiro256PlusPlus;
 
-use super::neighbours::space::image_near;
 use super::shear::PairChange;
 use super::Simulation;
 use crate::calendar::Calendar;
@@ -115,14 +114,6 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             }
             None => rotate_relative(vi, vj, mi, mj, normal, theta, &mut self.rng),
         }
-    }
-
-    /// `x` moved by a box length on each periodic axis where that brings it nearer to `y` (the
-    /// minimum image of `x − y` is then the plain difference). `collide` and the neighbour-list
-    /// search both take images this way, so that they agree to the last bit.
-    #[inline(always)]
-    pub(super) fn image_near(&self, x: &Vector<D>, y: &Vector<D>) -> Vector<D> {
-        image_near::<D, B>(&self.box_len, &self.half_box, x, y)
     }
 }
 

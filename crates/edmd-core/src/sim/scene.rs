@@ -1,8 +1,9 @@
-//! What differs between scenes, in one place: gravity's parabolic flight and the walls it meets,
-//! the wall contact itself (specular with a restitution, or the thermal floor), where a grain is now
-//! and what moves with the clock's rebase, and what each scene allows (neighbour lists, deep-cooling
-//! rescales, drift removal). The sliding images of a sheared box are the other scene-specific file,
-//! `sim/shear.rs`; the event loop asks these two and reads no scene flag itself.
+//! What differs between scenes, in one place: the nearest image across the periodic faces,
+//! gravity's parabolic flight and the walls it meets, the wall contact itself (specular with a
+//! restitution, or the thermal floor), where a grain is now and what moves with the clock's
+//! rebase, and what each scene allows (neighbour lists, deep-cooling rescales, drift removal). The
+//! sliding images of a sheared box are the other scene-specific file, `sim/shear.rs`; the event
+//! loop asks these two and reads no scene flag itself.
 //!
 //! A new kind of wall (a floor that moves) is a new flight or contact here: the loop calls
 //! [`Simulation::fall_exit`], [`Simulation::wall_ahead`] and [`Simulation::wall`] whatever the scene.
@@ -79,7 +80,54 @@ pub(super) fn check_scene<const D: usize, B: Boundary>(
     Ok(())
 }
 
+/// The image of `x` nearest to `y` across the periodic faces of a box of sides `box_len`.
+#[inline(always)]
+pub(super) fn image_near<const D: usize, B: Boundary>(
+    box_len: &Vector<D>,
+    half_box: &Vector<D>,
+    x: &Vector<D>,
+    y: &Vector<D>,
+) -> Vector<D> {
+    let mut r = *x;
+    for a in 0..D {
+        if !B::is_wall(a) {
+            let d = x[a] - y[a];
+            if d > half_box[a] {
+                r[a] -= box_len[a];
+            } else if d < -half_box[a] {
+                r[a] += box_len[a];
+            }
+        }
+    }
+    r
+}
+
 impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B, R, C> {
+    /// The image of j nearest to i (at `x`, moving with `v`), found as the searches find it, so
+    /// that a pair they predicted approaching is approaching here too: i's position moved to that
+    /// image's frame, and i's velocity there (its own but across a sliding face).
+    #[inline(always)]
+    pub(super) fn pair_image(
+        &self,
+        x: &Vector<D>,
+        v: &Vector<D>,
+        y: &Vector<D>,
+    ) -> (Vector<D>, Vector<D>) {
+        if B::SHEARED {
+            self.sheared_image_near(x, v, y)
+        } else {
+            (self.image_near(x, y), *v)
+        }
+    }
+
+    /// `x` moved by a box length on each periodic axis where that brings it nearer to `y` (the
+    /// minimum image of `x − y` is then the plain difference). `collide` and the neighbour-list
+    /// search both take images this way, so that they agree to the last bit.
+    #[inline(always)]
+    pub(super) fn image_near(&self, x: &Vector<D>, y: &Vector<D>) -> Vector<D> {
+        image_near::<D, B>(&self.box_len, &self.half_box, x, y)
+    }
+
     /// True if the flight along `axis` is a parabola (gravity's last axis), which
     /// [`Self::fall_exit`] handles; the straight axes are the cell search's.
     #[inline(always)]

@@ -90,23 +90,6 @@ pub(super) struct PairChange<const D: usize> {
 }
 
 impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B, R, C> {
-    /// The image of j nearest to i (at `x`, moving with `v`), found as the searches find it, so
-    /// that a pair they predicted approaching is approaching here too: i's position moved to that
-    /// image's frame, and i's velocity there (its own but across a sliding face).
-    #[inline(always)]
-    pub(super) fn pair_image(
-        &self,
-        x: &Vector<D>,
-        v: &Vector<D>,
-        y: &Vector<D>,
-    ) -> (Vector<D>, Vector<D>) {
-        if B::SHEARED {
-            self.sheared_image_near(x, v, y)
-        } else {
-            (self.image_near(x, y), *v)
-        }
-    }
-
     /// `slide` (how much faster i's image moves than i) where images slide, else none: the frame
     /// in which a pair's relative velocity is the difference of the two.
     #[inline(always)]

@@ -1,11 +1,12 @@
 //! List mode's search around a shell centre: the particles whose centres lie within reach, found
 //! in the cells around it (list builds and renewals, `sim/neighbours/list_search.rs`).
 
-use super::space::{centre_far_from_periodic_faces, image_near, Space};
+use super::space::{centre_far_from_periodic_faces, Space};
 #[cfg(target_arch = "x86_64")]
 use super::wide_scan::within_reach_wide;
 use super::NeighbourLists;
 use super::NONE;
+use crate::sim::scene::image_near;
 use crate::{Boundary, Vector};
 
 impl<const D: usize> NeighbourLists<D> {

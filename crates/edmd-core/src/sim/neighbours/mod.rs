@@ -14,7 +14,7 @@ mod list_gather;
 mod list_search;
 mod lists;
 mod shear_lists;
-pub(in crate::sim) mod space;
+mod space;
 mod wide_scan;
 
 pub use grid::{CellGrid, MAX_PER_AXIS, NONE};

@@ -16,28 +16,6 @@ pub(in crate::sim) struct Space<'a, const D: usize, B> {
     pub(in crate::sim) _boundary: PhantomData<B>,
 }
 
-/// The image of `x` nearest to `y` across the periodic faces of a box of sides `box_len`.
-#[inline(always)]
-pub(in crate::sim) fn image_near<const D: usize, B: Boundary>(
-    box_len: &Vector<D>,
-    half_box: &Vector<D>,
-    x: &Vector<D>,
-    y: &Vector<D>,
-) -> Vector<D> {
-    let mut r = *x;
-    for a in 0..D {
-        if !B::is_wall(a) {
-            let d = x[a] - y[a];
-            if d > half_box[a] {
-                r[a] -= box_len[a];
-            } else if d < -half_box[a] {
-                r[a] += box_len[a];
-            }
-        }
-    }
-    r
-}
-
 /// Whether `c` lies farther than `margin` from every periodic face and `span` (≥ `margin`) is
 /// below half the box: then every point within `margin` of it is its own nearest image, and so
 /// is every separation up to `span` between points on the same side of the faces.
