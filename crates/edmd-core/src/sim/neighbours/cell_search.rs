@@ -1,12 +1,34 @@
 //! Cell mode: collision search over the 3^D neighbour cells, the next crossing or wall contact, and
 //! the crossing itself.
 
-use super::Cells;
 use super::NONE;
+use super::{Cells, Search};
 use crate::calendar::Calendar;
 use crate::predict::{pair_time, reach_time, select};
 use crate::sim::{Aux, Simulation};
 use crate::{Boundary, CollisionRule, Particle, Vector};
+
+/// Cell mode predicts by its own search and crossings.
+impl Search for Cells {
+    const LISTS: bool = false;
+
+    #[inline(always)]
+    fn search<const D: usize, B: Boundary, R: CollisionRule, C: Calendar>(
+        sim: &Simulation<D, B, R, C>,
+        i: usize,
+        _horizon: f64,
+    ) -> (f64, u32) {
+        sim.search_cells(i, None, (f64::INFINITY, NONE))
+    }
+
+    #[inline(always)]
+    fn next_exit<const D: usize, B: Boundary, R: CollisionRule, C: Calendar>(
+        sim: &Simulation<D, B, R, C>,
+        i: usize,
+    ) -> (f64, Aux) {
+        sim.aux_event_cells(i)
+    }
+}
 
 impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B, R, C> {
     /// Earliest contact of particle `i` (at now) with the members of its neighbour cells; with

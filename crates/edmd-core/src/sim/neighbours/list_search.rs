@@ -6,8 +6,8 @@ use std::marker::PhantomData;
 use super::shear_lists::wrapped_now_sheared;
 use super::space::{centre_far_from_periodic_faces, rootless_test, smaller, Space};
 use super::CellGrid;
-use super::Lists;
 use super::NeighbourLists;
+use super::{Lists, Search, NONE};
 use crate::calendar::Calendar;
 use crate::predict::pair_time;
 use crate::sim::shear::ShearWindow;
@@ -16,6 +16,36 @@ use crate::{Boundary, CollisionRule, Particle, Vector};
 
 /// Partners per group of the list scan's cheap test (two SSE2 registers of `f64`).
 const LANES: usize = 2;
+
+/// List mode predicts by its lists' scan and shell exits.
+impl Search for Lists {
+    const LISTS: bool = true;
+
+    #[inline(always)]
+    fn search<const D: usize, B: Boundary, R: CollisionRule, C: Calendar>(
+        sim: &Simulation<D, B, R, C>,
+        i: usize,
+        horizon: f64,
+    ) -> (f64, u32) {
+        sim.search_list(sim.lists(), i, (f64::INFINITY, NONE), horizon)
+    }
+
+    #[inline(always)]
+    fn next_exit<const D: usize, B: Boundary, R: CollisionRule, C: Calendar>(
+        sim: &Simulation<D, B, R, C>,
+        i: usize,
+    ) -> (f64, Aux) {
+        sim.aux_event_list(sim.lists(), i)
+    }
+}
+
+impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B, R, C> {
+    /// List mode's lists (a simulation runs [`Lists`] only when it has them).
+    #[inline(always)]
+    fn lists(&self) -> &NeighbourLists<D> {
+        self.nl.as_ref().expect("list mode runs with lists")
+    }
+}
 
 impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B, R, C> {
     /// Neighbour-list mode: the shell exit or wall contact of slot `i` (at now), whichever is first.

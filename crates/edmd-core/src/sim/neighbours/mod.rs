@@ -58,56 +58,6 @@ pub(crate) struct Cells;
 #[derive(Debug)]
 pub(crate) struct Lists;
 
-impl Search for Cells {
-    const LISTS: bool = false;
-
-    #[inline(always)]
-    fn search<const D: usize, B: Boundary, R: CollisionRule, C: Calendar>(
-        sim: &Simulation<D, B, R, C>,
-        i: usize,
-        _horizon: f64,
-    ) -> (f64, u32) {
-        sim.search_cells(i, None, (f64::INFINITY, NONE))
-    }
-
-    #[inline(always)]
-    fn next_exit<const D: usize, B: Boundary, R: CollisionRule, C: Calendar>(
-        sim: &Simulation<D, B, R, C>,
-        i: usize,
-    ) -> (f64, Aux) {
-        sim.aux_event_cells(i)
-    }
-}
-
-impl Search for Lists {
-    const LISTS: bool = true;
-
-    #[inline(always)]
-    fn search<const D: usize, B: Boundary, R: CollisionRule, C: Calendar>(
-        sim: &Simulation<D, B, R, C>,
-        i: usize,
-        horizon: f64,
-    ) -> (f64, u32) {
-        sim.search_list(sim.lists(), i, (f64::INFINITY, NONE), horizon)
-    }
-
-    #[inline(always)]
-    fn next_exit<const D: usize, B: Boundary, R: CollisionRule, C: Calendar>(
-        sim: &Simulation<D, B, R, C>,
-        i: usize,
-    ) -> (f64, Aux) {
-        sim.aux_event_list(sim.lists(), i)
-    }
-}
-
-impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B, R, C> {
-    /// List mode's lists (a simulation runs [`Lists`] only when it has them).
-    #[inline(always)]
-    fn lists(&self) -> &NeighbourLists<D> {
-        self.nl.as_ref().expect("list mode runs with lists")
-    }
-}
-
 /// The cell grid and, where the scene and density call for them, the neighbour lists: lists with
 /// their own grid of cells of side σ + δ, or cells of one diameter.
 pub(super) fn neighbour_search<const D: usize, B: Boundary>(
