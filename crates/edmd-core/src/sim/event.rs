@@ -137,8 +137,10 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         self.calendar.schedule(&mut self.meta, i as u32, t);
     }
 
-    /// Predicts slot `i`'s next event and records it without filing it; returns its time.
-    #[inline]
+    /// Predicts slot `i`'s next event and records it without filing it; returns its time. One
+    /// out-of-line copy for the step's several callers: inlined at each, its branches mispredict
+    /// more than the call costs (docs/benchmarks.md, "The redesign: speed").
+    #[inline(never)]
     pub(super) fn predict_event<S: Search>(&mut self, i: usize) -> f64 {
         let aux = S::next_exit(self, i);
         let (coll_t, partner) = S::search(self, i, aux.0);
