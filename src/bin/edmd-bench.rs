@@ -5,8 +5,10 @@
 //! edmd-bench --matrix
 //! ```
 //! Each case: random (or lattice) start, elastic equilibration of 5 collisions per particle, then
-//! timed runs; prints the median collisions/s and ends with one line
-//! `collisions_per_s=<number> bytes_per_particle=<number>` for scripts.
+//! timed runs; prints the median collisions/s and the events per collision by kind, and ends with
+//! one line `collisions_per_s=<number> bytes_per_particle=<number>` for scripts. `--cool-from TAU`
+//! times free cooling instead: each repeat runs a new inelastic gas untimed to τ = TAU, then times
+//! the next collisions as the gas cools (the regimes the sweeps run through).
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicUsize, Ordering::Relaxed};
@@ -15,7 +17,9 @@ use std::time::Instant;
 use clap::Parser;
 use serde::Serialize;
 
-use edmd::{Boundary, ConstantRestitution, InitParams, LeesEdwards, LineAligned, Periodic, Stop};
+use edmd::{
+    Boundary, ConstantRestitution, Counters, InitParams, LeesEdwards, LineAligned, Periodic, Stop,
+};
 
 struct Counting;
 static CURRENT: AtomicUsize = AtomicUsize::new(0);
@@ -52,6 +56,8 @@ struct Case {
     look_ahead: Option<bool>,
     /// The searches of the x86-64 baseline even where AVX2 would run four lanes.
     portable: bool,
+    /// Free cooling: each repeat a new gas, untimed to this τ, then timed without rescaling.
+    cool_from: Option<f64>,
 }
 
 struct Outcome {
@@ -60,16 +66,65 @@ struct Outcome {
     median: f64,
     spread: f64,
     bytes_per_particle: f64,
+    neighbours: &'static str,
+    per_collision: EventsPerCollision,
 }
 
-fn measure<const D: usize, B: Boundary>(
+/// The events of the timed runs other than pair collisions, per pair collision, by kind.
+#[derive(Debug, Clone, Copy, Default, Serialize)]
+struct EventsPerCollision {
+    /// All events (pair collisions included).
+    events: f64,
+    /// Collision candidates whose partner had collided since.
+    stale: f64,
+    /// Cell crossings (cell mode) or shell exits (list mode).
+    crossings: f64,
+    /// Wall contacts.
+    walls: f64,
+    /// System events (the shear shift).
+    system: f64,
+    /// Calendar re-tunings by the event count.
+    maintenances: f64,
+    /// Full re-predictions (deep-cooling rescales, drift removals).
+    restarts: f64,
+}
+
+impl EventsPerCollision {
+    /// The counts between `from` and `to` per pair collision.
+    fn between(from: &Counters, to: &Counters) -> Self {
+        let pairs = (to.pair_collisions - from.pair_collisions).max(1) as f64;
+        let per = |f: fn(&Counters) -> u64| (f(to) - f(from)) as f64 / pairs;
+        Self {
+            events: per(|c| c.events),
+            stale: per(|c| c.stale),
+            crossings: per(|c| c.crossings),
+            walls: per(|c| c.wall_collisions),
+            system: per(|c| c.system_events),
+            maintenances: per(|c| c.maintenances),
+            restarts: per(|c| c.restarts),
+        }
+    }
+
+    /// Rounded to `digits` decimals for the report.
+    fn rounded(self, digits: i32) -> Self {
+        let r = |x: f64| (x * 10f64.powi(digits)).round() / 10f64.powi(digits);
+        Self {
+            events: r(self.events),
+            stale: r(self.stale),
+            crossings: r(self.crossings),
+            walls: r(self.walls),
+            system: r(self.system),
+            maintenances: r(self.maintenances),
+            restarts: r(self.restarts),
+        }
+    }
+}
+
+/// A new gas of the case, equilibrated elastically for `melt_tau` collisions per particle.
+fn build<const D: usize, B: Boundary>(
     case: &Case,
-    repeats: usize,
-    per_particle: f64,
     melt_tau: f64,
-) -> Result<Outcome, String> {
-    let base = CURRENT.load(Relaxed);
-    PEAK.store(base, Relaxed);
+) -> Result<edmd::Simulation<D, B, ConstantRestitution>, String> {
     let mut p = InitParams::<D>::with_packing(case.n, case.phi).map_err(|e| e.to_string())?;
     p.seed = 1;
     p.melt_tau = Some(melt_tau);
@@ -87,19 +142,44 @@ fn measure<const D: usize, B: Boundary>(
     if case.portable {
         sim.use_portable_scan();
     }
+    Ok(sim)
+}
+
+fn measure<const D: usize, B: Boundary>(
+    case: &Case,
+    repeats: usize,
+    per_particle: f64,
+    melt_tau: f64,
+) -> Result<Outcome, String> {
+    let base = CURRENT.load(Relaxed);
+    PEAK.store(base, Relaxed);
+    let mut sim = build::<D, B>(case, melt_tau)?;
+    let neighbours = if sim.uses_neighbour_lists() {
+        "lists"
+    } else {
+        "cells"
+    };
     let mut rates = Vec::new();
     let (mut collisions, mut total) = (0, 0.0);
+    let mut kinds = Vec::new();
     for _ in 0..repeats {
-        let c0 = sim.counters().pair_collisions;
+        if let Some(tau) = case.cool_from {
+            drop(sim);
+            sim = build::<D, B>(case, melt_tau)?;
+            sim.run(Stop::Tau(tau));
+        }
+        let c0 = *sim.counters();
         let tau0 = sim.tau();
         let start = Instant::now();
         sim.run(Stop::Tau(tau0 + per_particle));
         let secs = start.elapsed().as_secs_f64();
-        rates.push((sim.counters().pair_collisions - c0) as f64 / secs);
-        collisions += sim.counters().pair_collisions - c0;
+        let pairs = sim.counters().pair_collisions - c0.pair_collisions;
+        rates.push(pairs as f64 / secs);
+        kinds.push(EventsPerCollision::between(&c0, sim.counters()));
+        collisions += pairs;
         total += secs;
         // (Not under shear: scaling the velocities would scale the imposed flow too.)
-        if case.eps < 1.0 && !B::SHEARED {
+        if case.eps < 1.0 && case.shear_rate == 0.0 && case.cool_from.is_none() {
             // Keep an inelastic gas at T ≈ 1 so every repeat sees the same event rate.
             let t = sim.temperature();
             sim.scale_velocities(t.recip().sqrt());
@@ -116,7 +196,24 @@ fn measure<const D: usize, B: Boundary>(
         median,
         spread,
         bytes_per_particle: peak as f64 / case.n as f64,
+        neighbours,
+        per_collision: mean(&kinds),
     })
+}
+
+/// The mean of the repeats' events per collision (their collision counts are equal).
+fn mean(kinds: &[EventsPerCollision]) -> EventsPerCollision {
+    let k = kinds.len() as f64;
+    let sum = |f: fn(&EventsPerCollision) -> f64| kinds.iter().map(f).sum::<f64>() / k;
+    EventsPerCollision {
+        events: sum(|e| e.events),
+        stale: sum(|e| e.stale),
+        crossings: sum(|e| e.crossings),
+        walls: sum(|e| e.walls),
+        system: sum(|e| e.system),
+        maintenances: sum(|e| e.maintenances),
+        restarts: sum(|e| e.restarts),
+    }
 }
 
 fn run_case(
@@ -127,6 +224,11 @@ fn run_case(
 ) -> Result<Outcome, String> {
     // About 5·10^6 collisions per repeat (at least 2 and at most 200 per particle).
     let per_particle = per_particle.unwrap_or_else(|| (5e6 / case.n as f64).clamp(2.0, 200.0));
+    if let Some(tau) = case.cool_from.filter(|t| !(*t >= 0.0 && t.is_finite())) {
+        return Err(format!(
+            "invalid --cool-from = {tau}: must be ≥ 0 and finite"
+        ));
+    }
     if !(case.shear_rate >= 0.0 && case.shear_rate.is_finite()) {
         return Err(format!(
             "invalid --shear-rate = {}: must be ≥ 0 and finite",
@@ -171,6 +273,10 @@ struct Args {
     /// Elastic equilibration before timing, in collisions per particle.
     #[arg(long, default_value_t = 5.0)]
     melt_tau: f64,
+    /// Free cooling: each repeat builds the gas again, runs it untimed (no rescale) to this τ
+    /// (collisions per particle after the melt), then times `--collisions-per-particle` more.
+    #[arg(long)]
+    cool_from: Option<f64>,
     /// The large-system look-ahead (prefetch hints over the calendar's next buckets): `auto` (the
     /// engine's choice by the state's size), `on` or `off`, to measure where it pays.
     #[arg(long, default_value = "auto", value_parser = ["auto", "on", "off"])]
@@ -206,6 +312,13 @@ struct Report {
     bytes_per_particle: f64,
     /// The instruction set the binary was compiled for: [`BUILT_FOR`].
     isa: &'static str,
+    /// The neighbour strategy the engine chose: "cells" or "lists".
+    neighbours: &'static str,
+    /// `--cool-from` (absent: the gas is kept at T ≈ 1 between repeats).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    cool_from: Option<f64>,
+    /// The timed runs' events per pair collision by kind (the mean over the repeats).
+    events_per_collision: EventsPerCollision,
 }
 
 /// The instruction set this binary was compiled for (`-C target-cpu`), so that a benchmark's history
@@ -266,6 +379,7 @@ fn run_matrix(
                     shear_rate: args.shear_rate,
                     look_ahead,
                     portable: args.portable_scan,
+                    cool_from: None,
                 };
                 let o = run_case(&case, repeats, per, melt_tau)?;
                 println!(
@@ -307,6 +421,7 @@ fn real_main(args: Args) -> Result<(), String> {
         shear_rate: args.shear_rate,
         look_ahead,
         portable: args.portable_scan,
+        cool_from: args.cool_from,
     };
     let o = run_case(&case, repeats, per, melt_tau)?;
     if args.json {
@@ -324,6 +439,9 @@ fn real_main(args: Args) -> Result<(), String> {
             spread: round(o.spread, 4),
             bytes_per_particle: round(o.bytes_per_particle, 1),
             isa: BUILT_FOR,
+            neighbours: o.neighbours,
+            cool_from: case.cool_from,
+            events_per_collision: o.per_collision.rounded(4),
         };
         println!(
             "{}",
@@ -340,6 +458,12 @@ fn real_main(args: Args) -> Result<(), String> {
         case.shear_rate,
         repeats,
         100.0 * o.spread
+    );
+    let k = o.per_collision;
+    println!(
+        "per collision ({}): events {:.3} stale {:.3} crossings {:.3} walls {:.3} system {:.4} \
+         maintenances {:.5} restarts {:.5}",
+        o.neighbours, k.events, k.stale, k.crossings, k.walls, k.system, k.maintenances, k.restarts
     );
     println!(
         "collisions_per_s={:.0} bytes_per_particle={:.1}",

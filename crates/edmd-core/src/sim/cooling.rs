@@ -28,6 +28,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         self.scale = self.ln_scale.exp();
         // The monitor's clock check compares simulated times; restart it in the new units.
         self.monitor.restart_clock_check();
+        self.counters.rescales += 1;
         true
     }
 

@@ -61,6 +61,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                 EventKind::Collision(id, self.meta[j].id)
             }
             Event::Stale => {
+                self.counters.stale += 1;
                 self.predict::<S>(i);
                 EventKind::Stale(id)
             }

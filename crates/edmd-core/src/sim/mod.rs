@@ -158,6 +158,19 @@ pub struct Counters {
     pub wall_collisions: u64,
     /// Cell crossings (with neighbour lists: shell exits, each renewing the particle's list).
     pub crossings: u64,
+    /// Stale pops: collision candidates whose partner had collided since; the particle is
+    /// predicted again and nothing moves.
+    pub stale: u64,
+    /// System events (`sim/system.rs`): the shear shift of a sheared box.
+    pub system_events: u64,
+    /// Calendar re-tunings by the event count (`sim/upkeep.rs`): the clock rebased, every entry
+    /// filed again, no prediction renewed.
+    pub maintenances: u64,
+    /// Full re-predictions of every particle ([`Simulation::restart_events`]): after a deep-cooling
+    /// rescale, a drift removal, or a caller's change of the velocities.
+    pub restarts: u64,
+    /// Deep-cooling rescales of the velocity scale (each followed by a restart).
+    pub rescales: u64,
     /// Σ over pair collisions of `r_ij · Δp_i` (the collision virial), in the simulation's units.
     pub virial: f64,
     /// Sheared scenes: Σ over pair collisions of `(Δp_i)_a (r_ij)_b` (the whole impulse: normal,

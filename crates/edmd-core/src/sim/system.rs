@@ -70,6 +70,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     /// Handles system event `kind`, popped at its time, and files its next occurrence.
     #[cold]
     pub(super) fn system_event(&mut self, kind: SystemEvent) -> super::EventKind {
+        self.counters.system_events += 1;
         let done = match kind {
             SystemEvent::ShearShift => {
                 self.shear_shift();

@@ -12,6 +12,7 @@ const EVENTS_PER_BUCKET: f64 = 2.0;
 impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B, R, C> {
     /// Predicts every particle's event from scratch and sizes the calendar's buckets from them.
     pub fn restart_events(&mut self) {
+        self.counters.restarts += 1;
         let n = self.particles.len();
         self.rebase_clock();
         self.sort_by_cell();
@@ -155,6 +156,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
 
     /// Rebases the clock to zero and re-tunes the calendar to the current event rate.
     pub(super) fn maintenance(&mut self) {
+        self.counters.maintenances += 1;
         let drifted = self.remove_drift_if_large();
         if self.rescale_if_cold() || drifted {
             self.restart_events();

@@ -6,6 +6,7 @@ mod collapse;
 mod conservation;
 mod deep_cooling;
 mod equilibrium;
+mod event_counts;
 mod fuzz;
 mod gravity;
 mod haff;

@@ -388,6 +388,10 @@ fn write_observables(
     w.observable(obs, "collisions", &s.step, &s.time, &collisions)?;
     let walls: Vec<f64> = s.wall_collisions.iter().map(|&c| c as f64).collect();
     w.observable(obs, "wall_collisions", &s.step, &s.time, &walls)?;
+    for (name, counts) in s.events.named() {
+        let values: Vec<f64> = counts.iter().map(|&c| c as f64).collect();
+        w.observable(obs, name, &s.step, &s.time, &values)?;
+    }
     if let Some(c) = &out.classification {
         let o = &s.order;
         let order: [(&str, &[f64]); 6] = [

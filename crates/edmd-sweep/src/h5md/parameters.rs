@@ -84,6 +84,9 @@ fn results(p: &Group, out: &Outcome) -> hdf5::Result<()> {
         last(&out.series.ln_temperature) - out.t0.ln(),
     )?;
     attr_u64(p, "collisions", out.collisions)?;
+    for (name, counts) in out.series.events.named() {
+        attr_u64(p, name, counts.last().map_or(0, |&c| c as u64))?;
+    }
     let (ct, ctau) = out.collapse.unwrap_or((f64::NAN, f64::NAN));
     attr_f64(p, "collapse_time", ct)?;
     attr_f64(p, "collapse_tau", ctau)?;

@@ -65,6 +65,55 @@ pub struct Series {
     pub order: OrderSeries,
     /// The observables of a sheared replica (empty elsewhere).
     pub shear: ShearSeries,
+    /// The engine's events by kind, counted from the start of the replica's run.
+    pub events: EventSeries,
+}
+
+/// The engine's events by kind at each sample, counted from the start of the replica's run (after
+/// the melt); the pair collisions are `Series::step`, the wall contacts `Series::wall_collisions`.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct EventSeries {
+    /// All events, pair collisions included.
+    pub all: Vec<i64>,
+    /// Stale pops: collision candidates whose partner had collided since.
+    pub stale: Vec<i64>,
+    /// Cell crossings (cell mode) or shell exits (list mode).
+    pub crossings: Vec<i64>,
+    /// System events (the shear shift of a sheared box).
+    pub system: Vec<i64>,
+    /// Calendar re-tunings by the event count.
+    pub maintenances: Vec<i64>,
+    /// Full re-predictions of every particle (after deep-cooling rescales and drift removals).
+    pub restarts: Vec<i64>,
+    /// Deep-cooling rescales of the velocity scale.
+    pub rescales: Vec<i64>,
+}
+
+impl EventSeries {
+    /// Appends the counts of `now` since `start`.
+    pub(crate) fn push(&mut self, start: &edmd_core::Counters, now: &edmd_core::Counters) {
+        let since = |f: fn(&edmd_core::Counters) -> u64| (f(now) - f(start)) as i64;
+        self.all.push(since(|c| c.events));
+        self.stale.push(since(|c| c.stale));
+        self.crossings.push(since(|c| c.crossings));
+        self.system.push(since(|c| c.system_events));
+        self.maintenances.push(since(|c| c.maintenances));
+        self.restarts.push(since(|c| c.restarts));
+        self.rescales.push(since(|c| c.rescales));
+    }
+
+    /// The series by the names of the replica file's observables, in order.
+    pub fn named(&self) -> [(&'static str, &[i64]); 7] {
+        [
+            ("events", &self.all),
+            ("stale_events", &self.stale),
+            ("crossings", &self.crossings),
+            ("system_events", &self.system),
+            ("maintenances", &self.maintenances),
+            ("restarts", &self.restarts),
+            ("rescales", &self.rescales),
+        ]
+    }
 }
 
 /// Positions and velocities at one instant, in the original particle order.

@@ -2,7 +2,7 @@
 //! parameters its scene has, and a snapshot when one is due.
 
 use edmd_core::theory::haff_temperature_tau;
-use edmd_core::{order_parameters, Engine, Vector, VirialMeter};
+use edmd_core::{order_parameters, Counters, Engine, Vector, VirialMeter};
 
 use super::{Series, Snapshot};
 use crate::spec::{Replica, RuleSpec, Spec};
@@ -64,6 +64,8 @@ pub(super) struct Sampler<'a> {
     counts: Vec<usize>,
     species_of: &'a [usize],
     meter: Option<VirialMeter>,
+    /// The engine's counters at the start of the run (the event counts start there).
+    start: Counters,
 }
 
 impl<'a> Sampler<'a> {
@@ -103,6 +105,7 @@ impl<'a> Sampler<'a> {
             counts: r.species_counts(),
             species_of,
             meter: None,
+            start: *sim.counters(),
         }
     }
 
@@ -181,6 +184,7 @@ impl<'a> Sampler<'a> {
         series
             .momentum_error
             .push(o.momentum.norm() / o.momentum_scale.max(f64::MIN_POSITIVE));
+        series.events.push(&self.start, sim.counters());
     }
 
     /// The number density along gravity, in `profile_bins` bins.
