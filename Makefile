@@ -186,13 +186,15 @@ bench-bin:
 	RUSTFLAGS="$$RUSTFLAGS -C target-cpu=$(BENCH_CPU)" CARGO_TARGET_DIR=$(BENCH_DIR) $(CARGO) build --profile dist -q --bin edmd-bench
 	@echo "bench-bin: $(BENCH_BIN) (compiled for $(BENCH_CPU))"
 
-# `make bench` runs the matrix; `make bench D=2 N=10000 PHI=0.3 [EPS=1]` runs one case and ends
-# with `collisions_per_s=<number> bytes_per_particle=<number>`.
+# `make bench` runs the elastic matrix, then free cooling through the regime change (ε 1, 0.9, 0.7
+# timed from τ 200 to 400; scripts/cooling_bench.py); `make bench D=2 N=10000 PHI=0.3 [EPS=1]` runs
+# one case and ends with `collisions_per_s=<number> bytes_per_particle=<number>`.
 bench: bench-bin
 ifdef N
 	$(BENCH_BIN) --d $(or $(D),2) --n $(N) --phi $(or $(PHI),0.3) --eps $(or $(EPS),1.0)
 else
 	$(BENCH_BIN) --matrix
+	$(PYTHON) scripts/cooling_bench.py --bench $(BENCH_BIN)
 endif
 
 # Stress tests at full size (10^8 elastic collisions, T/T0 < 1e-1000, N = 10^7 disks, 2000 fuzz

@@ -30,6 +30,10 @@ deterministic, so a growth of edmd's count by more than 3 % over the
 previous entry is flagged however noisy the machine); about 5 more minutes where valgrind is
 installed, skipped with a note where it is not.
 
+Last, the free-cooling cases of scripts/cooling_bench.py (eps = 1, 0.9, 0.7 timed from tau 200 to 400,
+N = 4096 and 1e5 up to --cooling-max-n, 2D and 3D; --passes times), each recorded with `cool_from`,
+its rate relative to the elastic one of the same pass and its events per collision by kind, and
+flagged like the matrix; about 15 more minutes (skipped with --only).
 Exits 1 when a case is flagged (unless --no-fail), 2 on usage errors.
 
     scripts/bench-nightly.py [--bench BIN] [--instructions-bench BIN]
@@ -52,6 +56,7 @@ import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
+import cooling_bench  # noqa: E402
 import instructions  # noqa: E402
 import peers  # noqa: E402
 
@@ -111,7 +116,8 @@ def commit_id() -> str:
 def key(row: dict) -> tuple:
     # Builds for different instruction sets are different programs: each is compared with its own
     # kind (entries from before the field were all of the generic x86-64 build).
-    return (row["machine"], row.get("isa", "x86-64"), row["d"], row["n"], row["phi"], row["eps"], row.get("peer"))
+    return (row["machine"], row.get("isa", "x86-64"), row["d"], row["n"], row["phi"], row["eps"], row.get("peer"),
+            row.get("cool_from"))
 
 
 def built_for(bench: Path) -> str | None:
@@ -189,6 +195,7 @@ def main() -> int:
     ap.add_argument("--no-record", action="store_true", help="do not append to the history file")
     ap.add_argument("--peers", help="folder of the peer codes (with build.sh); default: env EDMD_PEERS or shared/peers beside the checkout")
     ap.add_argument("--no-peers", action="store_true", help="skip the side-by-side part")
+    ap.add_argument("--cooling-max-n", type=int, default=100_000, help="free-cooling cases (scripts/cooling_bench.py) up to this N; 0: none; skipped with --only (default 1e5)")
     ap.add_argument("--instructions-max-n", type=int, default=100_000, help="count instructions per collision (cachegrind) on the peer cases up to this N; 0: none (default 1e5)")
     args = ap.parse_args()
     if not 0 < args.threshold < 1:
@@ -297,6 +304,12 @@ def main() -> int:
         grown = instruction_growth(row, prev)
         if grown is not None and grown > 1 + INSTRUCTION_THRESHOLD:
             flagged.append((row, prev, grown))
+    if args.cooling_max_n > 0 and not only:
+        for row in cooling_bench.run(bench, args.cooling_max_n, args.passes, base=run):
+            prev = previous.get(key(row))
+            rows.append(row)
+            if prev and row["collisions_per_s"] < prev["collisions_per_s"] * (1 - args.threshold):
+                flagged.append((row, prev, row["collisions_per_s"] / prev["collisions_per_s"]))
     if not args.no_record:
         history_path.parent.mkdir(parents=True, exist_ok=True)
         with history_path.open("a") as f:
@@ -311,7 +324,8 @@ def main() -> int:
             elif "peer" in row:
                 print(f"  side by side D={row['d']} N={row['n']}: edmd/peer {row['ratio']:.2f} vs {prev['ratio']:.2f} ({100 * (ratio - 1):+.1f} %) at {prev['commit']}")
             else:
-                print(f"  D={row['d']} N={row['n']} phi={row['phi']} eps={row['eps']}: {row['collisions_per_s']:.0f} vs {prev['collisions_per_s']:.0f} collisions/s ({100 * (ratio - 1):+.1f} %) at {prev['commit']}")
+                cooling = f" cooling from tau {row['cool_from']:.0f}" if "cool_from" in row else ""
+                print(f"  D={row['d']} N={row['n']} phi={row['phi']} eps={row['eps']}{cooling}: {row['collisions_per_s']:.0f} vs {prev['collisions_per_s']:.0f} collisions/s ({100 * (ratio - 1):+.1f} %) at {prev['commit']}")
         return 0 if args.no_fail else 1
     print("bench-nightly: no case slower than the threshold")
     return 0

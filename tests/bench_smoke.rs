@@ -52,3 +52,34 @@ fn edmd_bench_refuses_a_bad_case_naming_the_field() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(stderr.contains("--d = 4"), "stderr: {stderr}");
 }
+
+/// `--cool-from` times a cooling gas and `--json` reports the events per collision by kind: each
+/// collision is one event, and a 2D gas in cell mode crosses cells between collisions.
+#[test]
+fn edmd_bench_times_free_cooling_and_reports_events_by_kind() {
+    let out = Command::new(env!("CARGO_BIN_EXE_edmd-bench"))
+        .args(["--d", "2", "--n", "1000", "--phi", "0.25", "--eps", "0.9"])
+        .args(["--cool-from", "5", "--collisions-per-particle", "5"])
+        .args(["--repeats", "1", "--json"])
+        .output()
+        .expect("edmd-bench starts");
+    assert!(
+        out.status.success(),
+        "edmd-bench failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let last = stdout.lines().last().expect("edmd-bench printed nothing");
+    let report: serde_json::Value = serde_json::from_str(last).expect("one JSON line");
+    assert_eq!(report["cool_from"], 5.0, "{report}");
+    assert_eq!(report["neighbours"], "cells", "{report}");
+    let per = &report["events_per_collision"];
+    let events = per["events"].as_f64().expect("events");
+    let parts: f64 = ["stale", "crossings", "walls", "system"]
+        .iter()
+        .map(|k| per[k].as_f64().expect(k))
+        .sum();
+    // Every event is a pair collision or one of the kinds counted beside it.
+    assert!((events - 1.0 - parts).abs() < 1e-3, "{per}");
+    assert!(per["crossings"].as_f64().unwrap() > 0.0, "{per}");
+}
