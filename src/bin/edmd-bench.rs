@@ -89,34 +89,61 @@ struct EventsPerCollision {
     restarts: f64,
 }
 
+/// The counters of each field of [`EventsPerCollision`], in its order.
+const KINDS: [fn(&Counters) -> u64; 7] = [
+    |c| c.events,
+    |c| c.stale,
+    |c| c.crossings,
+    |c| c.wall_collisions,
+    |c| c.system_events,
+    |c| c.maintenances,
+    |c| c.restarts,
+];
+
 impl EventsPerCollision {
-    /// The counts between `from` and `to` per pair collision.
-    fn between(from: &Counters, to: &Counters) -> Self {
-        let pairs = (to.pair_collisions - from.pair_collisions).max(1) as f64;
-        let per = |f: fn(&Counters) -> u64| (f(to) - f(from)) as f64 / pairs;
+    fn from_fields(
+        [events, stale, crossings, walls, system, maintenances, restarts]: [f64; 7],
+    ) -> Self {
         Self {
-            events: per(|c| c.events),
-            stale: per(|c| c.stale),
-            crossings: per(|c| c.crossings),
-            walls: per(|c| c.wall_collisions),
-            system: per(|c| c.system_events),
-            maintenances: per(|c| c.maintenances),
-            restarts: per(|c| c.restarts),
+            events,
+            stale,
+            crossings,
+            walls,
+            system,
+            maintenances,
+            restarts,
         }
     }
 
+    fn fields(&self) -> [f64; 7] {
+        [
+            self.events,
+            self.stale,
+            self.crossings,
+            self.walls,
+            self.system,
+            self.maintenances,
+            self.restarts,
+        ]
+    }
+
+    /// The counts between `from` and `to` per pair collision.
+    fn between(from: &Counters, to: &Counters) -> Self {
+        let pairs = (to.pair_collisions - from.pair_collisions).max(1) as f64;
+        Self::from_fields(KINDS.map(|f| (f(to) - f(from)) as f64 / pairs))
+    }
+
     /// Rounded to `digits` decimals for the report.
-    fn rounded(self, digits: i32) -> Self {
-        let r = |x: f64| (x * 10f64.powi(digits)).round() / 10f64.powi(digits);
-        Self {
-            events: r(self.events),
-            stale: r(self.stale),
-            crossings: r(self.crossings),
-            walls: r(self.walls),
-            system: r(self.system),
-            maintenances: r(self.maintenances),
-            restarts: r(self.restarts),
-        }
+    fn rounded(&self, digits: i32) -> Self {
+        let scale = 10f64.powi(digits);
+        Self::from_fields(self.fields().map(|x| (x * scale).round() / scale))
+    }
+
+    /// The mean over the repeats (their collision counts are equal).
+    fn mean(repeats: &[Self]) -> Self {
+        let n = repeats.len() as f64;
+        let sum = |k: usize| repeats.iter().map(|e| e.fields()[k]).sum::<f64>() / n;
+        Self::from_fields(std::array::from_fn(sum))
     }
 }
 
@@ -197,23 +224,8 @@ fn measure<const D: usize, B: Boundary>(
         spread,
         bytes_per_particle: peak as f64 / case.n as f64,
         neighbours,
-        per_collision: mean(&kinds),
+        per_collision: EventsPerCollision::mean(&kinds),
     })
-}
-
-/// The mean of the repeats' events per collision (their collision counts are equal).
-fn mean(kinds: &[EventsPerCollision]) -> EventsPerCollision {
-    let k = kinds.len() as f64;
-    let sum = |f: fn(&EventsPerCollision) -> f64| kinds.iter().map(f).sum::<f64>() / k;
-    EventsPerCollision {
-        events: sum(|e| e.events),
-        stale: sum(|e| e.stale),
-        crossings: sum(|e| e.crossings),
-        walls: sum(|e| e.walls),
-        system: sum(|e| e.system),
-        maintenances: sum(|e| e.maintenances),
-        restarts: sum(|e| e.restarts),
-    }
 }
 
 fn run_case(
