@@ -63,5 +63,6 @@ pub use schedule::Schedule;
 pub use sim::neighbours::CellGrid;
 pub use sim::{
     Collapse, CollapseReason, Counters, Engine, EventKind, RunEnd, SimParams, Simulation, Stop,
+    STATE_VERSION,
 };
 pub use state::{Particle, ParticleInit};

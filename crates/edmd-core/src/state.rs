@@ -8,7 +8,7 @@ use crate::Vector;
 /// radius, and the link to the next member of the particle's cell (cell mode; in list mode the list
 /// grid links through `NeighbourLists::links` and this field stays unused). In declaration order
 /// (`repr(C)`): the four-wide list scan reads the fields by their offsets (`sim/neighbours/wide_scan.rs`).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 #[repr(C)]
 pub struct Particle<const D: usize> {
     /// Position extrapolated back to local time 0.

@@ -6,7 +6,7 @@ use std::collections::BinaryHeap;
 use super::{Calendar, HasEntry};
 
 /// `f64` with a total order, for the oracle heap.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 struct Key(f64, u32, u32);
 
 impl Eq for Key {}
@@ -23,7 +23,7 @@ impl Ord for Key {
 }
 
 /// `BinaryHeap` calendar with lazy deletion (stale entries are skipped by a per-particle version).
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct HeapCalendar {
     heap: BinaryHeap<Key>,
     version: Vec<u32>,

@@ -25,7 +25,7 @@
 /// bookkeeping, [`HasEntry`]), so that filing or popping a particle touches the line its event has
 /// read anyway, not a line of a separate array. Outside an engine, [`Standalone`] keeps them in a
 /// vector of their own.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Entry {
     time: f64,
     /// The next entry of its bucket's spill list.
@@ -72,7 +72,9 @@ impl HasEntry for Entry {
 /// A priority queue holding at most one event time per particle. The particles' entries are the
 /// caller's (`e`, indexed by particle; see [`Entry`]); every call that files, removes or pops is
 /// handed the same slice.
-pub trait Calendar: std::fmt::Debug + Send {
+pub trait Calendar:
+    std::fmt::Debug + Send + serde::Serialize + serde::de::DeserializeOwned
+{
     /// An empty calendar for particles `0..n`.
     fn with_capacity(n: usize) -> Self
     where

@@ -32,7 +32,14 @@ pub use rules::{
 pub trait CollisionRule: Clone + Debug + Send + Sync + 'static {
     /// Per-particle memory of the rule: `()` (no memory, no cost) for laws of the impact alone; the
     /// time of the last collision for the TC model.
-    type State: Copy + Default + Debug + Send + Sync + 'static;
+    type State: Copy
+        + Default
+        + Debug
+        + Send
+        + Sync
+        + 'static
+        + serde::Serialize
+        + serde::de::DeserializeOwned;
 
     /// Restitution coefficient for a collision with normal approach speed `vn > 0` (physical units)
     /// between particles of reduced mass `m_eff` and reduced radius `r_eff = r_i r_j/(r_i + r_j)`.

@@ -87,7 +87,14 @@ pub enum Remedy {
 /// fixes the per-particle state the event loop carries.
 pub trait Grain: Copy + Debug + Send + Sync + 'static {
     /// The spin a grain carries: `()` (nothing) for smooth grains.
-    type Spin: Copy + Default + Debug + Send + Sync + 'static;
+    type Spin: Copy
+        + Default
+        + Debug
+        + Send
+        + Sync
+        + 'static
+        + serde::Serialize
+        + serde::de::DeserializeOwned;
     /// True for rough grains.
     const ROUGH: bool;
     /// Tangential restitution β and inertia factor q (β = −1 for smooth grains).
@@ -145,7 +152,7 @@ impl Rough {
 }
 
 /// Angular velocity of a rough particle (only the z component is used in 2D).
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Spin(pub [f64; 3]);
 
 impl Grain for Rough {
@@ -166,7 +173,7 @@ impl Grain for Rough {
 }
 
 /// Last collision time of a particle, for the TC model (−∞ before the first).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct LastCollision(pub f64);
 
 impl Default for LastCollision {

@@ -6,7 +6,7 @@ use crate::sim::neighbours::NONE;
 use crate::{Boundary, CollisionRule};
 
 /// Inelastic collapse: infinitely many collisions in a finite time (PHYSICS.md §6.4).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Collapse {
     /// Physical time when it was detected.
     pub time: f64,
@@ -17,7 +17,7 @@ pub struct Collapse {
 }
 
 /// The collapse criteria of PHYSICS.md §6.4.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum CollapseReason {
     /// The clock advanced by less than 1e-10 of its value over 10 N pair collisions (any window of
     /// them, in steps of N/8).
@@ -33,7 +33,7 @@ pub enum CollapseReason {
 const CLOCK_SLOTS: usize = 80;
 
 /// State of the collapse monitor.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, serde::Serialize, serde::Deserialize)]
 pub(super) struct CollapseMonitor {
     pair: (u32, u32),
     repeats: u32,
@@ -41,6 +41,7 @@ pub(super) struct CollapseMonitor {
     next_check: u64,
     /// Clock readings taken since the last restart; reading `k` is in slot `k % CLOCK_SLOTS`.
     readings: u64,
+    #[serde(with = "super::persist::array")]
     clock: [f64; CLOCK_SLOTS],
     found: Option<Collapse>,
 }

@@ -59,6 +59,10 @@ pub trait Engine<const D: usize>: Send {
     fn peculiar_velocities(&self) -> Vec<Vector<D>>;
     /// Zeroes the sheared scene's interval sums (the collisional stress and the dissipated energy).
     fn restart_shear_sums(&mut self);
+    /// The complete dynamic state as bytes (see [`Simulation::save_state`]).
+    fn save_state(&self) -> Vec<u8>;
+    /// Goes on from a state [`Engine::save_state`] wrote (see [`Simulation::load_state`]).
+    fn load_state(&mut self, bytes: &[u8]) -> Result<(), crate::EdmdError>;
 }
 
 impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar + Send> Engine<D>
@@ -126,5 +130,11 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar + Send> Engine<D
     }
     fn restart_shear_sums(&mut self) {
         Simulation::restart_shear_sums(self)
+    }
+    fn save_state(&self) -> Vec<u8> {
+        Simulation::save_state(self)
+    }
+    fn load_state(&mut self, bytes: &[u8]) -> Result<(), crate::EdmdError> {
+        Simulation::load_state(self, bytes)
     }
 }

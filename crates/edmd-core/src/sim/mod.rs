@@ -33,6 +33,7 @@ mod engine;
 mod event;
 pub(crate) mod neighbours;
 mod params;
+mod persist;
 mod prefetch;
 mod query;
 mod run;
@@ -50,12 +51,13 @@ pub use collapse::{Collapse, CollapseReason};
 pub use engine::Engine;
 pub use event::EventKind;
 pub use params::SimParams;
+pub use persist::STATE_VERSION;
 pub use run::{RunEnd, Stop};
 pub(crate) use scene::lists_possible;
 
 /// A particle's next event other than a collision, as the slot stores it: decoded once, where it
 /// is predicted, and matched once, where it is handled.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub(crate) enum Aux {
     /// Into the neighbouring cell along `axis`, upwards if `up` (cell mode).
     Crossing {
@@ -78,7 +80,7 @@ pub(crate) enum Aux {
 }
 
 /// Per-particle pending event.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, serde::Serialize, serde::Deserialize)]
 pub(crate) struct EventSlot {
     pub coll_t: f64,
     pub aux_t: f64,
@@ -96,7 +98,7 @@ impl EventSlot {
 }
 
 /// Per-particle bookkeeping kept together so that one cache line serves an event.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, serde::Serialize, serde::Deserialize)]
 pub(crate) struct Meta<const D: usize> {
     pub ev: EventSlot,
     pub mass: f64,
@@ -104,6 +106,7 @@ pub(crate) struct Meta<const D: usize> {
     pub id: u32,
     /// Cell coordinates, 16 bits per axis (the grid has at most [`crate::sim::neighbours::MAX_PER_AXIS`]
     /// cells per axis), so that a 3D record, too, fills one cache line: [`Meta::cell`].
+    #[serde(with = "persist::array")]
     pub cell: [u16; D],
     /// The event at `ev.aux_t` (here rather than in `ev`, so that it shares the padding after
     /// `cell`).
@@ -148,7 +151,7 @@ const _: () = assert!(std::mem::size_of::<Meta<2>>() == 64);
 const _: () = assert!(std::mem::size_of::<Meta<3>>() == 64);
 
 /// Running counters.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Counters {
     /// Events processed (all kinds).
     pub events: u64,

@@ -18,7 +18,7 @@ use crate::{Boundary, CollisionRule, Particle, Vector};
 /// Across a y face a particle's cell search covers four cells of the sliding row, enough until Δ
 /// next crosses a multiple of the cell side: then (`next`, local time) every particle of the two
 /// outer rows is searched again, with the row's stencil moved by one cell (`cell`).
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Copy, Default, serde::Serialize, serde::Deserialize)]
 pub(crate) struct Shear {
     /// Δ at local time 0.
     pub offset: f64,

@@ -15,7 +15,7 @@ use crate::sim::neighbours::NONE;
 use crate::{Boundary, CollisionRule};
 
 /// A kind of system event, each with its own calendar slot.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub(crate) enum SystemEvent {
     /// Sheared scenes: the sliding images moved by one cell column (`sim/shear.rs`).
     ShearShift,

@@ -15,6 +15,7 @@ mod lees_edwards_rules;
 mod mixture;
 mod oracle;
 mod overlaps;
+mod persist;
 mod ratio;
 mod regress_round_off_contact;
 mod rough;

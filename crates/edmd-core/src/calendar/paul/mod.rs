@@ -25,7 +25,7 @@ const CROWDED: usize = 32;
 /// the width aims at a few entries per bucket). Filing or removing an entry then touches the
 /// bucket's line and the particle's own entry, not the entries of unrelated particles that a linked
 /// bucket would thread through.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, serde::Serialize, serde::Deserialize)]
 #[repr(C, align(32))]
 struct Bucket {
     len: u32,
@@ -40,7 +40,7 @@ const EMPTY_BUCKET: Bucket = Bucket {
 };
 
 /// O(1)-amortised calendar of Paul (2007); see the module documentation.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct PaulCalendar {
     /// The `nb` buckets of one cycle.
     buckets: Vec<Bucket>,

@@ -175,6 +175,17 @@ impl<const D: usize> CellGrid<D> {
         inside
     }
 
+    /// Each cell's first member (the rest follow the members' links).
+    pub(crate) fn heads(&self) -> &[u32] {
+        &self.head
+    }
+
+    /// Replaces every cell's first member (a saved state's, of a grid of the same size).
+    pub(crate) fn set_heads(&mut self, heads: Vec<u32>) {
+        debug_assert_eq!(heads.len(), self.head.len());
+        self.head = heads;
+    }
+
     /// Asks for the line of cell `idx`'s head (a hint).
     #[inline(always)]
     pub(crate) fn prefetch_head(&self, idx: usize) {

@@ -21,7 +21,7 @@ use crate::Vector;
 const FAR: u32 = 1 << 31;
 
 /// Per-particle neighbour lists in one flat array of fixed stride, grown when a list overflows.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub(crate) struct NeighbourLists<const D: usize> {
     /// Skin `δ` (absolute length).
     pub skin: f64,
