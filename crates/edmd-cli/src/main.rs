@@ -19,6 +19,7 @@ use edmd_sweep::summary::{phase_table, render, Format};
 use edmd_sweep::{merge, SweepError, QUICK_SPEC};
 
 mod bar;
+mod interrupt;
 mod refine;
 mod size;
 
@@ -189,6 +190,10 @@ fn main() -> ExitCode {
     };
     match execute(cli.command) {
         Ok(code) => code,
+        Err(e) if e.is::<interrupt::Interrupted>() => {
+            eprintln!("{e}");
+            ExitCode::from(interrupt::EXIT_INTERRUPTED)
+        }
         Err(e) => {
             // One line: HDF5's messages carry line breaks of their own.
             let message = format!("{e:#}").replace(['\n', '\r'], " ");
@@ -254,9 +259,13 @@ fn run_command(
         max_memory,
         shard,
         force,
+        interrupt: Some(interrupt::on_signals()?),
     };
     let report = run_sweep(&spec_value, &dir, &opts, &Bar::new(quiet))?;
     say_ran(&spec_value, &report, shard, &root);
+    if report.interrupted > 0 {
+        return Err(interrupt::Interrupted(report.interrupted).into());
+    }
     match &report.records {
         Some(records) => print!(
             "{}",
@@ -420,13 +429,17 @@ fn thread_count(threads: Option<usize>) -> anyhow::Result<usize> {
 /// The line a run ends with: what ran, how fast, where to.
 fn say_ran(spec: &Spec, report: &RunReport, shard: Option<Shard>, root: &Path) {
     eprintln!(
-        "{}: ran {} of {} replicas{} ({} pair collisions in {:.1} s, {:.3e} collisions/s) into {}",
+        "{}: ran {} of {} replicas{}{} ({} pair collisions in {:.1} s, {:.3e} collisions/s) into {}",
         spec.name,
-        report.ran,
+        report.ran - report.interrupted,
         report.in_shard,
         shard
             .map(|s| format!(" of shard {}/{}", s.k, s.n))
             .unwrap_or_default(),
+        match report.resumed {
+            0 => String::new(),
+            k => format!(", {k} going on from their checkpoints"),
+        },
         report.collisions,
         report.wall_s,
         report.collisions as f64 / report.wall_s.max(1e-9),

@@ -101,6 +101,7 @@ pub fn command(a: RefineArgs) -> anyhow::Result<ExitCode> {
         max_memory: a.max_memory,
         shard,
         force: false,
+        interrupt: Some(crate::interrupt::on_signals()?),
     };
     let mut problems = Vec::new();
     loop {
@@ -170,6 +171,9 @@ fn round_records(
     }
     let report = run_sweep(spec, dir, opts, &Bar::new(a.quiet))?;
     say_ran(spec, &report, opts.shard, &a.out);
+    if report.interrupted > 0 {
+        return Err(crate::interrupt::Interrupted(report.interrupted).into());
+    }
     problems.extend(report.problems.iter().cloned());
     match report.records {
         Some(records) if opts.shard.is_none() => Ok(Some(records)),

@@ -105,7 +105,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
 }
 
 /// Measures pressure and collision frequency over an interval of a stationary (elastic) run.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, serde::Serialize, serde::Deserialize)]
 pub struct VirialMeter {
     time: f64,
     virial: f64,

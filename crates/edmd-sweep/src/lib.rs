@@ -10,6 +10,7 @@
 #![warn(missing_docs)]
 
 pub mod budget;
+pub mod checkpoint;
 pub mod classify;
 pub mod domain;
 mod error;

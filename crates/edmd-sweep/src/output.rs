@@ -45,10 +45,16 @@ pub enum ReplicaState {
 /// Writes `bytes` to `path` through a temporary file in the same directory and a rename, so that a
 /// reader never sees a half-written file.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), SweepError> {
+    write_atomic_parts(path, &[bytes])
+}
+
+/// [`write_atomic`] of the concatenation of `parts`, without copying them into one buffer.
+pub fn write_atomic_parts(path: &Path, parts: &[&[u8]]) -> Result<(), SweepError> {
     let tmp = tmp_path(path);
     let mut file = crate::files::create_fresh(&tmp)?;
-    let result = file
-        .write_all(bytes)
+    let result = parts
+        .iter()
+        .try_for_each(|p| file.write_all(p))
         .and_then(|_| file.sync_all())
         .and_then(|_| fs::rename(&tmp, path))
         .and_then(
@@ -258,6 +264,11 @@ impl OutDir {
     /// Final path of a replica's file.
     pub fn replica_path(&self, r: &Replica) -> PathBuf {
         self.replicas_dir().join(r.file_name())
+    }
+
+    /// A running replica's checkpoint (`rNNNNN.ckpt`, removed once its final file is in place).
+    pub fn checkpoint_path(&self, r: &Replica) -> PathBuf {
+        crate::checkpoint::file_in(&self.replicas_dir(), r.index)
     }
 
     /// Temporary path of a replica's file while it is written.

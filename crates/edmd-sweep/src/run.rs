@@ -2,13 +2,14 @@
 //! written atomically as soon as it ends; progress goes to the caller's [`Progress`].
 
 use std::path::PathBuf;
-use std::sync::atomic::{AtomicU64, Ordering};
-use std::sync::Mutex;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
 use rayon::prelude::*;
 
 use crate::budget::{check_memory, MemoryLimit};
+use crate::checkpoint::Checkpoints;
 use crate::h5md::write_replica;
 use crate::output::{OutDir, ReplicaState};
 use crate::record::{Record, Status};
@@ -28,6 +29,9 @@ pub struct RunOptions {
     pub shard: Option<Shard>,
     /// Replace the output of a different spec.
     pub force: bool,
+    /// Set (by a signal handler) to stop: every replica in flight writes its checkpoint and
+    /// returns, none starts.
+    pub interrupt: Option<Arc<AtomicBool>>,
 }
 
 /// Where a run reports its progress (the CLI draws a bar from it). Every method has a default that
@@ -72,7 +76,7 @@ pub struct RunReport {
     pub in_shard: usize,
     /// Replicas run now (the others were finished before).
     pub ran: usize,
-    /// Pair collisions run now.
+    /// Pair collisions run now (not those a checkpoint had already run).
     pub collisions: u64,
     /// Wall-clock seconds.
     pub wall_s: f64,
@@ -88,6 +92,10 @@ pub struct RunReport {
     pub set_aside: SetAside,
     /// Threads used.
     pub threads: usize,
+    /// Replicas that went on from a checkpoint.
+    pub resumed: usize,
+    /// Replicas left unfinished by an interrupt (those in flight with a checkpoint written).
+    pub interrupted: usize,
 }
 
 /// Final files found unusable and moved aside: where each went, and why.
@@ -117,7 +125,8 @@ fn unfinished<'a>(
         let part = out.part_path(r);
         crate::files::remove_stale(&part)?;
         match out.state(r, &hash) {
-            ReplicaState::Finished(_) => {}
+            // A run killed between the final file's rename and the checkpoint's removal.
+            ReplicaState::Finished(_) => crate::files::remove_stale(&out.checkpoint_path(r))?,
             ReplicaState::Missing => todo.push(r),
             ReplicaState::Corrupt(reason) => {
                 let to = out.set_aside(r)?;
@@ -196,6 +205,10 @@ pub fn run_sweep(
     let simulate_ns = AtomicU64::new(0);
     let write_ns = AtomicU64::new(0);
     let first_error: Mutex<Option<SweepError>> = Mutex::new(None);
+    let never = Arc::new(AtomicBool::new(false));
+    let interrupt = opts.interrupt.as_ref().unwrap_or(&never);
+    let ckpts = Checkpoints::new(spec, out.replicas_dir(), interrupt);
+    let interrupted = AtomicU64::new(0);
 
     let work = || {
         // One replica per job: rayon would otherwise run runs of several replicas back to back on one
@@ -204,11 +217,18 @@ pub fn run_sweep(
             if first_error.lock().expect("lock").is_some() {
                 return;
             }
+            if ckpts.interrupted() {
+                interrupted.fetch_add(1, Ordering::Relaxed);
+                return;
+            }
             let report = |c: u64| {
                 collisions.fetch_add(c, Ordering::Relaxed);
                 progress.advance(c);
             };
-            let outcome = replica::run(spec, r, &report);
+            let Some(outcome) = replica::run_with(spec, r, &report, Some(&ckpts)) else {
+                interrupted.fetch_add(1, Ordering::Relaxed);
+                return;
+            };
             // Settle the bar: the estimate becomes what the replica really ran.
             let est = estimated_collisions(spec, r);
             if outcome.collisions < est {
@@ -218,7 +238,7 @@ pub fn run_sweep(
             let t = Instant::now();
             let written = write_replica(&out.replica_path(r), spec, r, &outcome);
             write_ns.fetch_add(t.elapsed().as_nanos() as u64, Ordering::Relaxed);
-            if let Err(e) = written {
+            if let Err(e) = written.and_then(|_| crate::files::remove_stale(&ckpts.path(r.index))) {
                 first_error.lock().expect("lock").get_or_insert(e);
                 return;
             }
@@ -232,6 +252,9 @@ pub fn run_sweep(
         .map_err(|e| SweepError::Usage(format!("--threads {threads}: {e}")))?
         .install(work);
     progress.finish();
+    for m in ckpts.notices.lock().expect("lock").iter() {
+        progress.notice(m);
+    }
     if let Some(e) = first_error.into_inner().expect("lock") {
         return Err(e);
     }
@@ -240,7 +263,7 @@ pub fn run_sweep(
     Ok(RunReport {
         in_shard: mine.len(),
         ran: n_todo,
-        collisions: collisions.load(Ordering::Relaxed),
+        collisions: collisions.load(Ordering::Relaxed) - ckpts.resumed_collisions(),
         wall_s: start.elapsed().as_secs_f64(),
         simulate_s: simulate_ns.load(Ordering::Relaxed) as f64 * 1e-9,
         write_s: write_ns.load(Ordering::Relaxed) as f64 * 1e-9,
@@ -248,5 +271,7 @@ pub fn run_sweep(
         problems,
         set_aside,
         threads,
+        resumed: ckpts.resumed(),
+        interrupted: interrupted.load(Ordering::Relaxed) as usize,
     })
 }

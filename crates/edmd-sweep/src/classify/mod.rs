@@ -135,7 +135,7 @@ impl Class {
 }
 
 /// Order parameters over time (one entry per sample).
-#[derive(Debug, Clone, Default, PartialEq)]
+#[derive(Debug, Clone, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct OrderSeries {
     /// τ of each sample.
     pub tau: Vec<f64>,

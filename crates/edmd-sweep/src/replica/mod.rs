@@ -9,6 +9,7 @@ use edmd_core::{
     Periodic, Remedy as CoreRemedy, Rule, ThesisRestitution, ThresholdRestitution, Walls,
 };
 
+use crate::checkpoint::Checkpoints;
 use crate::classify::{critical_box_sides, Class, Classification, OrderSeries, Theory};
 pub use crate::record::Status;
 use crate::spec::{viscoelastic, BoundaryKind, Remedy, Replica, RuleSpec, Spec};
@@ -28,7 +29,7 @@ pub use shear::{
 use simulate::simulate;
 
 /// Observables sampled at the points of the schedule.
-#[derive(Debug, Clone, Default, PartialEq)]
+#[derive(Debug, Clone, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Series {
     /// Pair collisions C (the H5MD `step`).
     pub step: Vec<i64>,
@@ -71,7 +72,7 @@ pub struct Series {
 
 /// The engine's events by kind at each sample, counted from the start of the replica's run (after
 /// the melt); the pair collisions are `Series::step`, the wall contacts `Series::wall_collisions`.
-#[derive(Debug, Clone, Default, PartialEq)]
+#[derive(Debug, Clone, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct EventSeries {
     /// All events, pair collisions included.
     pub all: Vec<i64>,
@@ -117,7 +118,7 @@ impl EventSeries {
 }
 
 /// Positions and velocities at one instant, in the original particle order.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Snapshot {
     /// Pair collisions C.
     pub step: i64,
@@ -197,14 +198,30 @@ impl Outcome {
 
 /// Runs a replica. `progress` is called with the number of new pair collisions every so often.
 pub fn run(spec: &Spec, r: &Replica, progress: &(dyn Fn(u64) + Sync)) -> Outcome {
+    run_with(spec, r, progress, None).expect("without checkpoints nothing interrupts a replica")
+}
+
+/// [`run`], going on from the replica's checkpoint in `ckpt` if it has one and saving its state
+/// there on the way; `None` when a signal interrupted it (its checkpoint written).
+pub fn run_with(
+    spec: &Spec,
+    r: &Replica,
+    progress: &(dyn Fn(u64) + Sync),
+    ckpt: Option<&Checkpoints>,
+) -> Option<Outcome> {
     let start = Instant::now();
     let result = match r.dim {
-        2 => by_boundary::<2>(spec, r, progress),
-        3 => by_boundary::<3>(spec, r, progress),
+        2 => by_boundary::<2>(spec, r, progress, ckpt),
+        3 => by_boundary::<3>(spec, r, progress, ckpt),
         d => Err(EdmdError::invalid("dim", d, "dimension must be 2 or 3")),
     };
-    let mut outcome = result.unwrap_or_else(|e| Outcome::failed(e.to_string()));
-    outcome.wall_s = start.elapsed().as_secs_f64();
+    let mut outcome = match result {
+        Ok(None) => return None,
+        Ok(Some(o)) => o,
+        Err(e) => Outcome::failed(e.to_string()),
+    };
+    // Added to the seconds of earlier runs, which the checkpoint kept.
+    outcome.wall_s += start.elapsed().as_secs_f64();
     if spec.classify.is_some() && outcome.classification.is_none() {
         outcome.classification = Some(Classification {
             class: Class::Failed,
@@ -214,7 +231,7 @@ pub fn run(spec: &Spec, r: &Replica, progress: &(dyn Fn(u64) + Sync)) -> Outcome
             note: String::new(),
         });
     }
-    outcome
+    Some(outcome)
 }
 
 /// The replica's collision rule: its law and remedy as data ([`Rule`]), the same for every scene.
@@ -253,13 +270,14 @@ fn by_boundary<const D: usize>(
     spec: &Spec,
     r: &Replica,
     progress: &(dyn Fn(u64) + Sync),
-) -> Result<Outcome, EdmdError> {
+    ckpt: Option<&Checkpoints>,
+) -> Result<Option<Outcome>, EdmdError> {
     let rule = rule(spec, r)?;
     if r.gravity > 0.0 {
         // Gravity pulls towards the floor of the last axis: walls there (checked in the spec).
         return match r.boundary {
-            BoundaryKind::Walls => by_grain::<D, Container>(spec, r, rule, progress),
-            BoundaryKind::Channel => by_grain::<D, Column>(spec, r, rule, progress),
+            BoundaryKind::Walls => by_grain::<D, Container>(spec, r, rule, progress, ckpt),
+            BoundaryKind::Channel => by_grain::<D, Column>(spec, r, rule, progress, ckpt),
             BoundaryKind::Periodic | BoundaryKind::LeesEdwards => Err(EdmdError::invalid(
                 "gravity",
                 r.gravity,
@@ -268,10 +286,10 @@ fn by_boundary<const D: usize>(
         };
     }
     match r.boundary {
-        BoundaryKind::Periodic => by_grain::<D, Periodic>(spec, r, rule, progress),
-        BoundaryKind::Walls => by_grain::<D, Walls>(spec, r, rule, progress),
-        BoundaryKind::Channel => by_grain::<D, Channel>(spec, r, rule, progress),
-        BoundaryKind::LeesEdwards => by_grain::<D, LeesEdwards>(spec, r, rule, progress),
+        BoundaryKind::Periodic => by_grain::<D, Periodic>(spec, r, rule, progress, ckpt),
+        BoundaryKind::Walls => by_grain::<D, Walls>(spec, r, rule, progress, ckpt),
+        BoundaryKind::Channel => by_grain::<D, Channel>(spec, r, rule, progress, ckpt),
+        BoundaryKind::LeesEdwards => by_grain::<D, LeesEdwards>(spec, r, rule, progress, ckpt),
     }
 }
 
@@ -302,11 +320,12 @@ fn by_grain<const D: usize, B: Boundary>(
     r: &Replica,
     rule: Rule,
     progress: &(dyn Fn(u64) + Sync),
-) -> Result<Outcome, EdmdError> {
+    ckpt: Option<&Checkpoints>,
+) -> Result<Option<Outcome>, EdmdError> {
     if r.rough() {
-        simulate::<D, B, _>(spec, r, rule.rough(r.beta, r.inertia)?, progress)
+        simulate::<D, B, _>(spec, r, rule.rough(r.beta, r.inertia)?, progress, ckpt)
     } else {
-        simulate::<D, B, _>(spec, r, rule, progress)
+        simulate::<D, B, _>(spec, r, rule, progress, ckpt)
     }
 }
 

@@ -114,6 +114,17 @@ impl<'a> Sampler<'a> {
         self.t0
     }
 
+    /// What a checkpoint keeps: the initial temperature, the running virial meter, the counters
+    /// at the start.
+    pub(super) fn state(&self) -> (f64, Option<VirialMeter>, Counters) {
+        (self.t0, self.meter, self.start)
+    }
+
+    /// Goes on from a checkpoint's [`Self::state`].
+    pub(super) fn resume(&mut self, t0: f64, meter: Option<VirialMeter>, start: Counters) {
+        (self.t0, self.meter, self.start) = (t0, meter, start);
+    }
+
     /// Samples `sim` into `series`, with a snapshot into `snapshots` when `snapshot`.
     pub(super) fn sample<const D: usize>(
         &mut self,

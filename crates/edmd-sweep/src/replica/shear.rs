@@ -14,14 +14,14 @@ pub fn profile_bins(side: f64) -> usize {
 
 /// The clock and collision count at the previous sample; the engine's shear sums (stress and
 /// dissipation) restart there, so that each interval is summed at its own precision.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 struct Mark {
     time: f64,
     collisions: u64,
 }
 
 /// Per sample of a sheared replica (empty elsewhere). Tensors are D × D, row-major.
-#[derive(Debug, Clone, Default, PartialEq)]
+#[derive(Debug, Clone, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ShearSeries {
     /// P_ab = P^k_ab + P^c_ab (NaN at the first sample, whose collisional part has no interval).
     pub pressure_tensor: Vec<Vec<f64>>,

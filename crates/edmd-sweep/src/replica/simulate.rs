@@ -8,6 +8,7 @@ use edmd_core::{
 
 use super::sampler::{snapshot, Sampler};
 use super::{theory, Outcome, Series, Snapshot, Status};
+use crate::checkpoint::{Checkpoints, RunnerState, Saved, Timer};
 use crate::classify::{classify, settled, Class, Classification, Theory};
 use crate::spec::{Replica, Spec, VelocityKind};
 
@@ -21,17 +22,34 @@ const CHUNK_EVENTS: u64 = 500_000;
 pub(super) const STALL_EVENTS_PER_COLLISION: u64 = 1000;
 const STALL_WINDOW_PER_PARTICLE: u64 = 1000;
 
-/// Runs replica `r` in the scene `B` with `rule`: the only part compiled per scene and grain kind
-/// is building the simulation; the run itself is [`drive`], compiled once per dimension.
+/// Runs replica `r` in the scene `B` with `rule`, from its checkpoint if `ckpt` has one: the only
+/// part compiled per scene and grain kind is building the simulation; the run itself is [`drive`],
+/// compiled once per dimension. `None`: interrupted, its checkpoint written.
 pub(super) fn simulate<const D: usize, B: Boundary, R: CollisionRule>(
     spec: &Spec,
     r: &Replica,
     rule: R,
     progress: &(dyn Fn(u64) + Sync),
-) -> Result<Outcome, EdmdError> {
-    let (p, species_of) = init_params::<D>(spec, r);
+    ckpt: Option<&Checkpoints>,
+) -> Result<Option<Outcome>, EdmdError> {
+    let saved = ckpt.and_then(|c| {
+        c.load(r.index)
+            .unwrap_or_else(|why| {
+                c.notice(format!("checkpoint unusable, the replica starts over: {why}"));
+                None
+            })
+    });
+    let (mut p, species_of) = init_params::<D>(spec, r);
+    if saved.is_some() {
+        // The state comes from the checkpoint: no melt to run first.
+        p.melt_tau = Some(0.0);
+    }
     let mut sim: Simulation<D, B, R> = p.build::<B, R>(rule)?;
-    drive(spec, r, &p, &species_of, &mut sim, progress)
+    if let Some(s) = &saved {
+        sim.load_state(&s.engine)?;
+    }
+    let resume = saved.map(|s| s.runner);
+    drive(spec, r, &p, &species_of, &mut sim, progress, ckpt, resume)
 }
 
 /// The set-up of replica `r`: box, seed, velocities, species (and the species of each slot), walls,
@@ -79,11 +97,21 @@ fn drive<const D: usize>(
     species_of: &[usize],
     sim: &mut dyn Engine<D>,
     progress: &(dyn Fn(u64) + Sync),
-) -> Result<Outcome, EdmdError> {
+    ckpt: Option<&Checkpoints>,
+    resume: Option<RunnerState>,
+) -> Result<Option<Outcome>, EdmdError> {
     let theory = theory(spec, r);
     let mut sampler = Sampler::new(spec, r, species_of, &*sim);
-    let mut run = Run::new(spec, r, *sim.counters());
+    let mut run = Run::new(spec, r, *sim.counters(), ckpt);
+    if let Some(state) = resume {
+        run.resume(state, &mut sampler);
+        run.reported = sim.counters().pair_collisions;
+        progress(run.reported);
+    }
     run.go(sim, &mut sampler, &theory, progress);
+    if run.interrupted {
+        return Ok(None);
+    }
     let c = sim.counters().pair_collisions;
     progress(c - run.reported);
     // The final state: sampled once, with a snapshot when asked.
@@ -100,7 +128,7 @@ fn drive<const D: usize>(
     }
     let (status, message, collapse) = run.ending(&*sim);
     let classification = classification(spec, r, status, &run.series, &theory);
-    Ok(Outcome {
+    Ok(Some(Outcome {
         status,
         message,
         series: run.series,
@@ -117,10 +145,10 @@ fn drive<const D: usize>(
         t0: sampler.t0(),
         collisions: c,
         collapse,
-        wall_s: 0.0,
+        wall_s: run.wall_before,
         classification,
         per_cell: theory.per_cell,
-    })
+    }))
 }
 
 /// The sample and snapshot points of a replica, in τ.
@@ -196,10 +224,26 @@ struct Run<'a> {
     sampled_at: Option<u64>,
     /// The counters at the start of the current stall window.
     window: edmd_core::Counters,
+    /// The sample and snapshot points, and the one the run is heading for.
+    points: Points,
+    point: Option<f64>,
+    /// Where and when the replica saves its state.
+    ckpt: Option<&'a Checkpoints<'a>>,
+    timer: Option<Timer>,
+    /// Stopped by a signal, its checkpoint written.
+    interrupted: bool,
+    /// Wall-clock seconds of the runs before this one (from the checkpoint).
+    wall_before: f64,
+    started: std::time::Instant,
 }
 
 impl<'a> Run<'a> {
-    fn new(spec: &'a Spec, r: &'a Replica, counters: edmd_core::Counters) -> Self {
+    fn new(
+        spec: &'a Spec,
+        r: &'a Replica,
+        counters: edmd_core::Counters,
+        ckpt: Option<&'a Checkpoints<'a>>,
+    ) -> Self {
         Run {
             spec,
             r,
@@ -212,7 +256,59 @@ impl<'a> Run<'a> {
             reported: 0,
             sampled_at: None,
             window: counters,
+            points: Points::new(spec),
+            point: None,
+            ckpt,
+            timer: None,
+            interrupted: false,
+            wall_before: 0.0,
+            started: std::time::Instant::now(),
         }
+    }
+
+    /// Goes on from a checkpoint's runner state.
+    fn resume(&mut self, s: RunnerState, sampler: &mut Sampler<'_>) {
+        self.series = s.series;
+        self.snapshots = s.snapshots;
+        self.point = Some(s.point);
+        self.points.next_snapshot = s.next_snapshot;
+        self.sampled_at = s.sampled_at;
+        self.window = s.window;
+        self.wall_before = s.wall_s;
+        sampler.resume(s.t0, s.meter, s.start);
+    }
+
+    /// Saves the replica's state when a checkpoint is due (between two chunks of events); after a
+    /// signal's checkpoint the run stops.
+    fn checkpoint_if_due<const D: usize>(&mut self, sim: &dyn Engine<D>, sampler: &Sampler<'_>) {
+        let Some(c) = self.ckpt else {
+            return;
+        };
+        let tau = sim.tau();
+        let timer = self.timer.get_or_insert_with(|| Timer::new(c, tau));
+        let Some(why) = timer.due(c, tau) else {
+            return;
+        };
+        let (t0, meter, start) = sampler.state();
+        let runner = RunnerState {
+            series: self.series.clone(),
+            snapshots: self.snapshots.clone(),
+            point: self.point.expect("checkpoints come on the way to a point"),
+            next_snapshot: self.points.next_snapshot,
+            sampled_at: self.sampled_at,
+            window: self.window,
+            t0,
+            meter,
+            start,
+            wall_s: self.wall_before + self.started.elapsed().as_secs_f64(),
+        };
+        let saved = Saved {
+            runner,
+            engine: sim.save_state(),
+        };
+        let collisions = sim.counters().pair_collisions;
+        c.save(self.r.index, tau, collisions, why, &saved);
+        self.interrupted = why == "signal";
     }
 
     /// Samples at every point of the schedule until the stop, a collapse, a stall or an early stop.
@@ -223,15 +319,16 @@ impl<'a> Run<'a> {
         theory: &Theory,
         progress: &(dyn Fn(u64) + Sync),
     ) {
-        let mut points = Points::new(self.spec);
         let t0 = sampler.t0();
-        let mut next = points.first();
+        let mut next = self.point.or_else(|| self.points.first());
         while let Some(point) = next {
-            self.advance(sim, (point * self.r.n as f64).ceil() as u64, progress);
-            if self.stalled.is_some() || self.end != RunEnd::Reached {
+            self.point = Some(point);
+            let target = (point * self.r.n as f64).ceil() as u64;
+            self.advance(sim, sampler, target, progress);
+            if self.interrupted || self.stalled.is_some() || self.end != RunEnd::Reached {
                 break;
             }
-            let snap = points.take_snapshot(point);
+            let snap = self.points.take_snapshot(point);
             let c = sim.counters().pair_collisions;
             if self.sampled_at != Some(c) {
                 sampler.sample(&mut *sim, &mut self.series, &mut self.snapshots, snap);
@@ -244,7 +341,7 @@ impl<'a> Run<'a> {
             if self.stops_early(&*sim, t0, theory) {
                 break;
             }
-            next = points.next(point);
+            next = self.points.next(point);
         }
     }
 
@@ -253,6 +350,7 @@ impl<'a> Run<'a> {
     fn advance<const D: usize>(
         &mut self,
         sim: &mut dyn Engine<D>,
+        sampler: &Sampler<'_>,
         target: u64,
         progress: &(dyn Fn(u64) + Sync),
     ) {
@@ -279,6 +377,12 @@ impl<'a> Run<'a> {
                     ));
                 }
                 self.window = c;
+            }
+            if self.stalled.is_none() && self.end == RunEnd::Reached {
+                self.checkpoint_if_due(&*sim, sampler);
+                if self.interrupted {
+                    return;
+                }
             }
         }
     }

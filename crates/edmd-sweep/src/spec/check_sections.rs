@@ -86,6 +86,19 @@ impl Spec {
             self.snapshots.log_from,
             &domain::LOG_FROM,
         )?;
+        if let Some(c) = &self.checkpoint {
+            if !(c.every_s >= 0.0 && c.every_s.is_finite()) {
+                return Err(SweepError::Spec(format!(
+                    "checkpoint.every_s = {}: must be a finite number of seconds, 0 or more",
+                    c.every_s
+                )));
+            }
+            if let Some(t) = c.every_tau.filter(|t| !(*t > 0.0 && t.is_finite())) {
+                return Err(SweepError::Spec(format!(
+                    "checkpoint.every_tau = {t}: must be finite and above 0"
+                )));
+            }
+        }
         within(
             "output.compression",
             self.output.compression as f64,

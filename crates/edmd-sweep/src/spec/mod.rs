@@ -220,6 +220,33 @@ impl Default for OutputSpec {
     }
 }
 
+/// When a running replica saves its state (docs/output.md, "Checkpoints"): a setting of the run,
+/// not of its results, so it is left out of the spec's hash and of the replica files.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct CheckpointSpec {
+    /// Wall-clock seconds between a replica's checkpoints (default 300); 0 turns them off (a signal
+    /// still writes one).
+    #[serde(default = "default_checkpoint_seconds")]
+    pub every_s: f64,
+    /// Also a checkpoint whenever τ passes a multiple of this (absent: by wall time only).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub every_tau: Option<f64>,
+}
+
+fn default_checkpoint_seconds() -> f64 {
+    300.0
+}
+
+impl Default for CheckpointSpec {
+    fn default() -> Self {
+        CheckpointSpec {
+            every_s: default_checkpoint_seconds(),
+            every_tau: None,
+        }
+    }
+}
+
 /// The grid of replicas: the Cartesian product of its axes.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
@@ -378,6 +405,9 @@ pub struct Spec {
     /// a spec a person writes). Their replicas follow the grid's, in round order.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub refinement: Option<Refinement>,
+    /// When running replicas save their state (absent: every 300 s of wall time).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub checkpoint: Option<CheckpointSpec>,
 }
 
 impl Spec {
@@ -436,6 +466,7 @@ impl Spec {
     pub fn base(&self) -> Spec {
         Spec {
             refinement: None,
+            checkpoint: None,
             ..self.clone()
         }
     }
