@@ -2,6 +2,7 @@
 //! compile the library a second time as a test harness (docs/benchmarks.md).
 
 mod budget;
+mod checkpoint;
 mod classify;
 mod domain;
 mod files;
