@@ -199,8 +199,9 @@ endif
 
 # Stress tests at full size (10^8 elastic collisions, T/T0 < 1e-1000, N = 10^7 disks, 2000 fuzz
 # cases); `cargo test` runs short versions. Figures: docs/benchmarks.md.
-stress:
+stress: release-bin venv
 	$(CARGO) test -p edmd-core --test engine -- --ignored --nocapture --test-threads 1 stress:: fuzz:: deep_cooling::large
+	$(VENV)/bin/python scripts/kill-resume.py --edmd target/release/edmd --trials 10 --signals 3
 
 disk-full: release-bin venv
 	$(VENV)/bin/python scripts/disk-full.py --edmd target/release/edmd
