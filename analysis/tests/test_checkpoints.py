@@ -22,3 +22,32 @@ def test_killed_and_signalled_runs_resume_bit_identical(capsys):
     resumed = [int(line.split("checkpoints")[1].split(":")[0]) for line in out.splitlines()
                if line.startswith("trial")]
     assert sum(resumed) > 0, out
+
+
+def test_status_and_python_read_a_checkpoint(tmp_path):
+    """A run stopped by SIGTERM leaves checkpoints whose headers `edmd status` and
+    `edmd_analysis.checkpoints` report: τ reached, collisions, age."""
+    import json
+    import signal
+    import subprocess
+    import time
+
+    import edmd_analysis
+    from conftest import run_edmd
+
+    spec = dict(kill_resume.SPEC, checkpoint={"every_s": 0, "every_tau": 1})
+    (tmp_path / "spec.json").write_text(json.dumps(spec))
+    p = subprocess.Popen([str(edmd_binary()), "run", str(tmp_path / "spec.json"), "-o", str(tmp_path / "o"), "-q"],
+                         stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    time.sleep(1.5)
+    p.send_signal(signal.SIGTERM)
+    _, err = p.communicate()
+    assert p.returncode == kill_resume.EXIT_INTERRUPTED, err
+    rows = edmd_analysis.checkpoints(tmp_path / "o")
+    assert rows and all("error" not in r for r in rows), rows
+    for r in rows:
+        assert 0 < r["tau"] < spec["stop"]["tau_max"] and r["collisions"] > 0 and r["reason"] == "signal"
+        assert 0 <= r["age_s"] < 60
+    status = run_edmd("status", tmp_path / "o", check=False).stdout
+    for r in rows:
+        assert f"checkpoint r{r['replica']:05d}: tau {r['tau']:.4f}" in status, status

@@ -18,7 +18,7 @@ pub fn on_signals() -> anyhow::Result<Arc<AtomicBool>> {
     let stop = Arc::new(AtomicBool::new(false));
     for sig in [SIGINT, SIGTERM] {
         // Registered first, so that it sees the flag as the previous signal left it.
-        flag::register_conditional_shutdown(sig, 128 + sig as i32, Arc::clone(&stop))?;
+        flag::register_conditional_shutdown(sig, 128 + sig, Arc::clone(&stop))?;
         flag::register(sig, Arc::clone(&stop))?;
     }
     flag::register(SIGUSR1, Arc::clone(&stop))?;

@@ -22,6 +22,7 @@ mod bar;
 mod interrupt;
 mod refine;
 mod size;
+mod status;
 
 use bar::Bar;
 use size::parse_size;
@@ -43,8 +44,9 @@ Examples:
   edmd validate-spec SPEC                    check a spec without running it
   edmd spec-schema                           the JSON Schema of specs (for editors and validators)
 
-Rerunning the same `edmd run` resumes a killed sweep: finished replicas are kept, partial ones redone,
-corrupt ones moved aside as rNNNNN.h5.corrupt and redone. One run (or one shard) at a time holds OUT.
+Rerunning the same `edmd run` resumes a killed sweep: finished replicas are kept, those in flight go on
+from their checkpoints (rNNNNN.ckpt: every 300 s, and at once on SIGTERM, SIGINT or SIGUSR1), corrupt
+ones are moved aside as rNNNNN.h5.corrupt and redone. One run (or one shard) at a time holds OUT.
 
 Exit status:
   0   success (status: every replica done)
@@ -52,6 +54,8 @@ Exit status:
   2   the sweep ran but a replica failed, collapsed or stalled (ended before its stop);
       status/merge: replicas failed, collapsed, stalled, missing or corrupt
   64  usage error (unknown option, missing argument)
+  75  run/refine stopped by SIGTERM, SIGINT or SIGUSR1; the replicas in flight saved checkpoints
+      (run the same command again to go on)
 Spec format: docs/sweep-spec.md.";
 
 /// Exit status of a command-line usage error (BSD's EX_USAGE), distinct from 2 ("replicas failed").
@@ -216,7 +220,7 @@ fn execute(command: Command) -> anyhow::Result<ExitCode> {
             format,
         } => run_command(spec, out, threads, max_memory, shard, force, quiet, format),
         Command::Refine(args) => refine::command(args),
-        Command::Status { out } => status_command(out),
+        Command::Status { out } => status::status_command(out),
         Command::Merge { inputs, out } => merge_command(inputs, out),
         Command::Summarize { out, format } => summarize_command(out, format),
         Command::SpecSchema => {
@@ -277,46 +281,6 @@ fn run_command(
         ),
     }
     Ok(say_problems(&report.problems))
-}
-
-/// `edmd status`: the replicas by status, a run in progress, and why each failed one ended.
-fn status_command(out: PathBuf) -> anyhow::Result<ExitCode> {
-    let (dir, spec) = OutDir::open(&out)?;
-    let records = dir.records(&spec);
-    let partial = spec
-        .replicas()
-        .iter()
-        .filter(|r| dir.part_path(r).exists())
-        .count();
-    let count = |s: Status| records.iter().filter(|r| r.status == s).count();
-    println!(
-        "{}: {} replicas: {} done, {} collapsed, {} stalled, {} failed, {} corrupt, {} in flight or partial, {} pending",
-        spec.name,
-        records.len(),
-        count(Status::Done),
-        count(Status::Collapsed),
-        count(Status::Stalled),
-        count(Status::Failed),
-        count(Status::Corrupt),
-        partial,
-        count(Status::Missing).saturating_sub(partial)
-    );
-    if let Some(who) = edmd_sweep::lock::running(&out) {
-        // A replica being simulated has no file yet: the pending ones include it.
-        println!("  a run is in progress ({who}): its replicas being simulated now are among the pending");
-    }
-    for r in records.iter().filter(|r| {
-        matches!(
-            r.status,
-            Status::Failed | Status::Collapsed | Status::Stalled | Status::Corrupt
-        )
-    }) {
-        println!("  {} r{:05}: {}", r.status, r.index, r.message);
-    }
-    if count(Status::Corrupt) > 0 {
-        println!("  (rerun `edmd run` with the same spec and -o: corrupt files are moved aside and redone)");
-    }
-    Ok(exit_for(&records))
 }
 
 /// `edmd merge`: the shards' files into one output and its index.
@@ -446,11 +410,19 @@ fn say_ran(spec: &Spec, report: &RunReport, shard: Option<Shard>, root: &Path) {
         root.display()
     );
     if report.ran > 0 {
+        let (k, ckpt_s) = report.checkpoints;
         eprintln!(
-            "time per replica summed: simulating {:.2} s, writing files {:.3} s ({:.2} % of the total)",
+            "time per replica summed: simulating {:.2} s, writing files {:.3} s ({:.2} % of the total){}",
             report.simulate_s,
             report.write_s,
-            100.0 * report.write_s / (report.simulate_s + report.write_s).max(1e-12)
+            100.0 * report.write_s / (report.simulate_s + report.write_s).max(1e-12),
+            match k {
+                0 => String::new(),
+                k => format!(
+                    "; {k} checkpoints, {ckpt_s:.3} s ({:.2} % of simulating)",
+                    100.0 * ckpt_s / report.simulate_s.max(1e-12)
+                ),
+            }
         );
     }
 }

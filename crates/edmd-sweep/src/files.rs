@@ -6,10 +6,10 @@
 //! with `O_NOFOLLOW`, and a new file is created exclusively (`O_CREAT | O_EXCL`), so that the
 //! name we write is the file we made.
 
-use std::fs::{File, OpenOptions};
-use std::io;
+use std::fs::{self, File, OpenOptions};
+use std::io::{self, Write};
 use std::os::unix::fs::OpenOptionsExt;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use crate::SweepError;
 
@@ -77,4 +77,38 @@ pub fn create_fresh(path: &Path) -> Result<File, SweepError> {
         .custom_flags(libc::O_NOFOLLOW)
         .open(path)
         .map_err(|e| nofollow_error(path, "cannot create", e))
+}
+
+/// Writes `bytes` to `path` through a temporary file in the same directory and a rename, so that a
+/// reader never sees a half-written file.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), SweepError> {
+    write_atomic_parts(path, &[bytes])
+}
+
+/// [`write_atomic`] of the concatenation of `parts`, without copying them into one buffer.
+pub fn write_atomic_parts(path: &Path, parts: &[&[u8]]) -> Result<(), SweepError> {
+    let tmp = tmp_path(path);
+    let mut file = create_fresh(&tmp)?;
+    let result = parts
+        .iter()
+        .try_for_each(|p| file.write_all(p))
+        .and_then(|_| file.sync_all())
+        .and_then(|_| fs::rename(&tmp, path))
+        .and_then(
+            |_| match path.parent().filter(|d| !d.as_os_str().is_empty()) {
+                Some(dir) => fs::File::open(dir)?.sync_all(),
+                None => fs::File::open(".")?.sync_all(),
+            },
+        );
+    result.map_err(|e| {
+        let _ = fs::remove_file(&tmp);
+        SweepError::io("cannot write", path, e)
+    })
+}
+
+/// A temporary name beside `path`, unique to this process.
+pub(crate) fn tmp_path(path: &Path) -> PathBuf {
+    let mut name = path.file_name().unwrap_or_default().to_os_string();
+    name.push(format!(".tmp{}", std::process::id()));
+    path.with_file_name(name)
 }

@@ -10,7 +10,6 @@
 #![warn(missing_docs)]
 
 pub mod budget;
-pub mod checkpoint;
 pub mod classify;
 pub mod domain;
 mod error;
@@ -22,6 +21,7 @@ pub mod output;
 pub mod record;
 pub mod refine;
 pub mod replica;
+pub use replica::checkpoint;
 pub mod run;
 pub mod spec;
 pub mod summary;

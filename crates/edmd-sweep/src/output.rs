@@ -12,10 +12,11 @@
 //! ```
 
 use std::fs;
-use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
+pub(crate) use crate::files::tmp_path;
+pub use crate::files::{write_atomic, write_atomic_parts};
 use crate::h5md::{attr_i64, attr_str, check_file, SCHEMA_VERSION};
 use crate::lock::{lock, LockMode, OutLock};
 use crate::record::{Record, Status};
@@ -42,45 +43,11 @@ pub enum ReplicaState {
     Corrupt(String),
 }
 
-/// Writes `bytes` to `path` through a temporary file in the same directory and a rename, so that a
-/// reader never sees a half-written file.
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), SweepError> {
-    write_atomic_parts(path, &[bytes])
-}
-
-/// [`write_atomic`] of the concatenation of `parts`, without copying them into one buffer.
-pub fn write_atomic_parts(path: &Path, parts: &[&[u8]]) -> Result<(), SweepError> {
-    let tmp = tmp_path(path);
-    let mut file = crate::files::create_fresh(&tmp)?;
-    let result = parts
-        .iter()
-        .try_for_each(|p| file.write_all(p))
-        .and_then(|_| file.sync_all())
-        .and_then(|_| fs::rename(&tmp, path))
-        .and_then(
-            |_| match path.parent().filter(|d| !d.as_os_str().is_empty()) {
-                Some(dir) => fs::File::open(dir)?.sync_all(),
-                None => fs::File::open(".")?.sync_all(),
-            },
-        );
-    result.map_err(|e| {
-        let _ = fs::remove_file(&tmp);
-        SweepError::io("cannot write", path, e)
-    })
-}
-
 /// Syncs the directory `dir`, so that a rename into it survives a crash.
 fn sync_dir(dir: &Path) -> Result<(), SweepError> {
     fs::File::open(dir)
         .and_then(|d| d.sync_all())
         .map_err(|e| SweepError::io("cannot sync", dir, e))
-}
-
-/// A temporary name beside `path`, unique to this process.
-pub(crate) fn tmp_path(path: &Path) -> PathBuf {
-    let mut name = path.file_name().unwrap_or_default().to_os_string();
-    name.push(format!(".tmp{}", std::process::id()));
-    path.with_file_name(name)
 }
 
 /// Whether `root` holds an edmd sweep's spec.
@@ -268,7 +235,7 @@ impl OutDir {
 
     /// A running replica's checkpoint (`rNNNNN.ckpt`, removed once its final file is in place).
     pub fn checkpoint_path(&self, r: &Replica) -> PathBuf {
-        crate::checkpoint::file_in(&self.replicas_dir(), r.index)
+        crate::replica::checkpoint::file_in(&self.replicas_dir(), r.index)
     }
 
     /// Temporary path of a replica's file while it is written.

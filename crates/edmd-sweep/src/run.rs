@@ -9,11 +9,11 @@ use std::time::Instant;
 use rayon::prelude::*;
 
 use crate::budget::{check_memory, MemoryLimit};
-use crate::checkpoint::Checkpoints;
 use crate::h5md::write_replica;
 use crate::output::{OutDir, ReplicaState};
 use crate::record::{Record, Status};
 use crate::replica;
+use crate::replica::checkpoint::Checkpoints;
 use crate::spec::{Replica, Shard, Spec};
 use crate::SweepError;
 
@@ -94,6 +94,8 @@ pub struct RunReport {
     pub threads: usize,
     /// Replicas that went on from a checkpoint.
     pub resumed: usize,
+    /// Checkpoints written, and the seconds they took (summed over the replicas).
+    pub checkpoints: (u64, f64),
     /// Replicas left unfinished by an interrupt (those in flight with a checkpoint written).
     pub interrupted: usize,
 }
@@ -119,6 +121,7 @@ fn unfinished<'a>(
     progress: &dyn Progress,
 ) -> Result<(Vec<&'a Replica>, SetAside), SweepError> {
     let hash = spec.hash();
+    remove_stale_checkpoint_tmp(out, mine)?;
     let mut set_aside = Vec::new();
     let mut todo: Vec<&Replica> = Vec::new();
     for r in mine {
@@ -141,6 +144,27 @@ fn unfinished<'a>(
         }
     }
     Ok((todo, set_aside))
+}
+
+/// Removes the temporary files of checkpoints that a killed run was writing for replicas of `mine`
+/// (`rNNNNN.ckpt.tmpPID`); the lock keeps any other run off these replicas.
+fn remove_stale_checkpoint_tmp(out: &OutDir, mine: &[Replica]) -> Result<(), SweepError> {
+    let Ok(entries) = std::fs::read_dir(out.replicas_dir()) else {
+        return Ok(());
+    };
+    let ours: std::collections::HashSet<usize> = mine.iter().map(|r| r.index).collect();
+    for entry in entries.flatten() {
+        let name = entry.file_name().to_string_lossy().into_owned();
+        let index = name
+            .split_once(".ckpt.tmp")
+            .and_then(|(stem, pid)| pid.bytes().all(|b| b.is_ascii_digit()).then_some(stem))
+            .and_then(|stem| stem.strip_prefix('r'))
+            .and_then(|k| k.parse::<usize>().ok());
+        if index.is_some_and(|k| ours.contains(&k)) {
+            crate::files::remove_stale(&entry.path())?;
+        }
+    }
+    Ok(())
 }
 
 /// The status of this shard's replicas (those run now and those finished before), read back from
@@ -173,6 +197,65 @@ fn shard_records(
     Ok((records, problems))
 }
 
+/// What the replicas of a run did, summed across the pool's threads.
+#[derive(Debug, Default)]
+struct Tally {
+    collisions: AtomicU64,
+    simulate_ns: AtomicU64,
+    write_ns: AtomicU64,
+    done: AtomicU64,
+    interrupted: AtomicU64,
+    first_error: Mutex<Option<SweepError>>,
+}
+
+impl Tally {
+    /// Runs replica `r` (from its checkpoint, if any) and writes its file, unless the run is being
+    /// stopped by an error or a signal.
+    fn run_one(
+        &self,
+        spec: &Spec,
+        out: &OutDir,
+        r: &Replica,
+        ckpts: &Checkpoints,
+        progress: &dyn Progress,
+        n_todo: usize,
+    ) {
+        if self.first_error.lock().expect("lock").is_some() {
+            return;
+        }
+        if ckpts.interrupted() {
+            self.interrupted.fetch_add(1, Ordering::Relaxed);
+            return;
+        }
+        let report = |c: u64| {
+            self.collisions.fetch_add(c, Ordering::Relaxed);
+            progress.advance(c);
+        };
+        let Some(outcome) = replica::run_with(spec, r, &report, Some(ckpts)) else {
+            self.interrupted.fetch_add(1, Ordering::Relaxed);
+            return;
+        };
+        // Settle the bar: the estimate becomes what the replica really ran.
+        let est = estimated_collisions(spec, r);
+        if outcome.collisions < est {
+            progress.advance(est - outcome.collisions);
+        }
+        self.simulate_ns
+            .fetch_add((outcome.wall_s * 1e9) as u64, Ordering::Relaxed);
+        let t = Instant::now();
+        let written = write_replica(&out.replica_path(r), spec, r, &outcome);
+        self.write_ns
+            .fetch_add(t.elapsed().as_nanos() as u64, Ordering::Relaxed);
+        // The checkpoint goes once the final file is in place.
+        if let Err(e) = written.and_then(|_| crate::files::remove_stale(&ckpts.path(r.index))) {
+            self.first_error.lock().expect("lock").get_or_insert(e);
+            return;
+        }
+        let k = self.done.fetch_add(1, Ordering::Relaxed) + 1;
+        progress.replica_done(k as usize, n_todo);
+    }
+}
+
 /// Runs the replicas of `opts.shard` of `spec` into `out`.
 pub fn run_sweep(
     spec: &Spec,
@@ -199,52 +282,17 @@ pub fn run_sweep(
     let total: u64 = todo.iter().map(|r| estimated_collisions(spec, r)).sum();
 
     let n_todo = todo.len();
-    let done_count = AtomicU64::new(0);
     progress.start(n_todo, total);
-    let collisions = AtomicU64::new(0);
-    let simulate_ns = AtomicU64::new(0);
-    let write_ns = AtomicU64::new(0);
-    let first_error: Mutex<Option<SweepError>> = Mutex::new(None);
     let never = Arc::new(AtomicBool::new(false));
     let interrupt = opts.interrupt.as_ref().unwrap_or(&never);
     let ckpts = Checkpoints::new(spec, out.replicas_dir(), interrupt);
-    let interrupted = AtomicU64::new(0);
-
+    let tally = Tally::default();
     let work = || {
         // One replica per job: rayon would otherwise run runs of several replicas back to back on one
         // thread, and a run of slow ones at the end leaves the other threads idle.
-        todo.par_iter().with_max_len(1).for_each(|r| {
-            if first_error.lock().expect("lock").is_some() {
-                return;
-            }
-            if ckpts.interrupted() {
-                interrupted.fetch_add(1, Ordering::Relaxed);
-                return;
-            }
-            let report = |c: u64| {
-                collisions.fetch_add(c, Ordering::Relaxed);
-                progress.advance(c);
-            };
-            let Some(outcome) = replica::run_with(spec, r, &report, Some(&ckpts)) else {
-                interrupted.fetch_add(1, Ordering::Relaxed);
-                return;
-            };
-            // Settle the bar: the estimate becomes what the replica really ran.
-            let est = estimated_collisions(spec, r);
-            if outcome.collisions < est {
-                progress.advance(est - outcome.collisions);
-            }
-            simulate_ns.fetch_add((outcome.wall_s * 1e9) as u64, Ordering::Relaxed);
-            let t = Instant::now();
-            let written = write_replica(&out.replica_path(r), spec, r, &outcome);
-            write_ns.fetch_add(t.elapsed().as_nanos() as u64, Ordering::Relaxed);
-            if let Err(e) = written.and_then(|_| crate::files::remove_stale(&ckpts.path(r.index))) {
-                first_error.lock().expect("lock").get_or_insert(e);
-                return;
-            }
-            let k = done_count.fetch_add(1, Ordering::Relaxed) + 1;
-            progress.replica_done(k as usize, n_todo);
-        });
+        todo.par_iter()
+            .with_max_len(1)
+            .for_each(|r| tally.run_one(spec, out, r, &ckpts, progress, n_todo));
     };
     rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
@@ -255,7 +303,7 @@ pub fn run_sweep(
     for m in ckpts.notices.lock().expect("lock").iter() {
         progress.notice(m);
     }
-    if let Some(e) = first_error.into_inner().expect("lock") {
+    if let Some(e) = tally.first_error.into_inner().expect("lock") {
         return Err(e);
     }
 
@@ -263,15 +311,16 @@ pub fn run_sweep(
     Ok(RunReport {
         in_shard: mine.len(),
         ran: n_todo,
-        collisions: collisions.load(Ordering::Relaxed) - ckpts.resumed_collisions(),
+        collisions: tally.collisions.load(Ordering::Relaxed) - ckpts.resumed_collisions(),
         wall_s: start.elapsed().as_secs_f64(),
-        simulate_s: simulate_ns.load(Ordering::Relaxed) as f64 * 1e-9,
-        write_s: write_ns.load(Ordering::Relaxed) as f64 * 1e-9,
+        simulate_s: tally.simulate_ns.load(Ordering::Relaxed) as f64 * 1e-9,
+        write_s: tally.write_ns.load(Ordering::Relaxed) as f64 * 1e-9,
         records,
         problems,
         set_aside,
         threads,
         resumed: ckpts.resumed(),
-        interrupted: interrupted.load(Ordering::Relaxed) as usize,
+        checkpoints: ckpts.written(),
+        interrupted: tally.interrupted.load(Ordering::Relaxed) as usize,
     })
 }

@@ -9,16 +9,18 @@ use edmd_core::{
     Periodic, Remedy as CoreRemedy, Rule, ThesisRestitution, ThresholdRestitution, Walls,
 };
 
-use crate::checkpoint::Checkpoints;
 use crate::classify::{critical_box_sides, Class, Classification, OrderSeries, Theory};
 pub use crate::record::Status;
 use crate::spec::{viscoelastic, BoundaryKind, Remedy, Replica, RuleSpec, Spec};
 
+pub mod checkpoint;
+mod points;
 mod sampler;
 mod scene_theory;
 mod shear;
 mod simulate;
 mod stall;
+use checkpoint::Checkpoints;
 pub use scene_theory::{
     density_profile_theory, rotational_ratio_theory, shear_theory, species_temperature_theory,
     ProfileTheory,

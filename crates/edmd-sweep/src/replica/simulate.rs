@@ -2,13 +2,14 @@
 //! and order parameters on the schedule, keep the snapshots, watch for collapse and stalls.
 
 use edmd_core::{
-    Boundary, CollisionRule, EdmdError, Engine, InitParams, RunEnd, Schedule, SimParams,
-    Simulation, Stop, Vector, Velocities,
+    Boundary, CollisionRule, EdmdError, Engine, InitParams, RunEnd, SimParams, Simulation, Stop,
+    Vector, Velocities,
 };
 
+use super::checkpoint::{Checkpoints, RunnerState, Saved, Timer};
+use super::points::Points;
 use super::sampler::{snapshot, Sampler};
 use super::{theory, Outcome, Series, Snapshot, Status};
-use crate::checkpoint::{Checkpoints, RunnerState, Saved, Timer};
 use crate::classify::{classify, settled, Class, Classification, Theory};
 use crate::spec::{Replica, Spec, VelocityKind};
 
@@ -33,11 +34,12 @@ pub(super) fn simulate<const D: usize, B: Boundary, R: CollisionRule>(
     ckpt: Option<&Checkpoints>,
 ) -> Result<Option<Outcome>, EdmdError> {
     let saved = ckpt.and_then(|c| {
-        c.load(r.index)
-            .unwrap_or_else(|why| {
-                c.notice(format!("checkpoint unusable, the replica starts over: {why}"));
-                None
-            })
+        c.load(r.index).unwrap_or_else(|why| {
+            c.notice(format!(
+                "checkpoint unusable, the replica starts over: {why}"
+            ));
+            None
+        })
     });
     let (mut p, species_of) = init_params::<D>(spec, r);
     if saved.is_some() {
@@ -151,63 +153,6 @@ fn drive<const D: usize>(
     }))
 }
 
-/// The sample and snapshot points of a replica, in τ.
-struct Points {
-    schedule: Schedule,
-    snapshot_times: Schedule,
-    next_snapshot: Option<f64>,
-    tau_max: f64,
-}
-
-impl Points {
-    fn new(spec: &Spec) -> Self {
-        let tau_max = spec.stop.tau_max;
-        let mut snapshot_points = spec.snapshots.at.clone();
-        snapshot_points.retain(|&t| t <= tau_max);
-        // The snapshot times (the `at` points and the snapshot grids); each is also a sample.
-        let snapshot_times = spec.snapshots.schedule();
-        let next_snapshot = snapshot_times
-            .first_at_or_after(0.0)
-            .filter(|&t| t <= tau_max);
-        let schedule = Schedule {
-            linear: spec.samples.every,
-            log_per_decade: (spec.samples.per_decade > 0).then_some(spec.samples.per_decade),
-            log_start: spec.samples.log_from,
-            points: snapshot_points
-                .iter()
-                .copied()
-                .chain([0.0, tau_max])
-                .collect(),
-        };
-        Points {
-            schedule,
-            snapshot_times,
-            next_snapshot,
-            tau_max,
-        }
-    }
-
-    fn first(&self) -> Option<f64> {
-        earliest(self.schedule.first_at_or_after(0.0), self.next_snapshot)
-    }
-
-    /// Whether `point` takes a snapshot; if so, the next snapshot time moves on.
-    fn take_snapshot(&mut self, point: f64) -> bool {
-        let snap = self.next_snapshot.is_some_and(|t| same_point(t, point));
-        if snap {
-            self.next_snapshot = after(&self.snapshot_times, point, self.tau_max);
-        }
-        snap
-    }
-
-    fn next(&self, point: f64) -> Option<f64> {
-        earliest(
-            after(&self.schedule, point, self.tau_max),
-            self.next_snapshot,
-        )
-    }
-}
-
 /// The run of a replica from sample point to sample point, and how it ended.
 struct Run<'a> {
     spec: &'a Spec,
@@ -289,6 +234,7 @@ impl<'a> Run<'a> {
         let Some(why) = timer.due(c, tau) else {
             return;
         };
+        let began = std::time::Instant::now();
         let (t0, meter, start) = sampler.state();
         let runner = RunnerState {
             series: self.series.clone(),
@@ -308,6 +254,7 @@ impl<'a> Run<'a> {
         };
         let collisions = sim.counters().pair_collisions;
         c.save(self.r.index, tau, collisions, why, &saved);
+        c.count(began.elapsed().as_secs_f64());
         self.interrupted = why == "signal";
     }
 
@@ -504,27 +451,4 @@ fn classification(
             note: String::new(),
         },
     })
-}
-
-/// Two schedule points closer than round-off are one sample (a snapshot grid point and a sample
-/// grid point computed as different products of the same τ).
-fn same_point(a: f64, b: f64) -> bool {
-    (a - b).abs() <= 1e-9 * a.abs().max(1.0)
-}
-
-/// The first point of `schedule` after `point` (and not the same point), up to `tau_max`.
-fn after(schedule: &Schedule, point: f64, tau_max: f64) -> Option<f64> {
-    let mut t = schedule.next_after(point);
-    while let Some(x) = t.filter(|&x| same_point(x, point)) {
-        t = schedule.next_after(x);
-    }
-    t.filter(|&x| x <= tau_max)
-}
-
-/// The earlier of two optional points.
-fn earliest(a: Option<f64>, b: Option<f64>) -> Option<f64> {
-    match (a, b) {
-        (Some(x), Some(y)) => Some(x.min(y)),
-        (x, y) => x.or(y),
-    }
 }

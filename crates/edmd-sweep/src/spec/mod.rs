@@ -228,9 +228,11 @@ pub struct CheckpointSpec {
     /// Wall-clock seconds between a replica's checkpoints (default 300); 0 turns them off (a signal
     /// still writes one).
     #[serde(default = "default_checkpoint_seconds")]
+    #[schemars(extend("minimum" = 0))]
     pub every_s: f64,
     /// Also a checkpoint whenever τ passes a multiple of this (absent: by wall time only).
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(extend("exclusiveMinimum" = 0))]
     pub every_tau: Option<f64>,
 }
 

@@ -25,7 +25,10 @@ fn interrupted_at(spec: &Spec, stops: &[u64]) -> (Outcome, Vec<u64>) {
             }
         };
         let out = replica::run_with(spec, r, &progress, Some(&ckpts));
-        assert!(out.is_none(), "the stop at {stop} collisions came after the end");
+        assert!(
+            out.is_none(),
+            "the stop at {stop} collisions came after the end"
+        );
         assert!(ckpts.notices.lock().unwrap().is_empty());
         started_from.push(ckpts.resumed_collisions());
         let header = read_header(&ckpts.path(r.index)).unwrap();
@@ -62,7 +65,11 @@ fn check(text: &str, stops: &[u64]) {
     // The first run starts from nothing, every later one from the previous checkpoint.
     assert_eq!(from[0], 0);
     for (k, &c) in from[1..].iter().enumerate() {
-        assert!(c >= stops[k], "run {} started from {c}, not from its checkpoint", k + 1);
+        assert!(
+            c >= stops[k],
+            "run {} started from {c}, not from its checkpoint",
+            k + 1
+        );
     }
 }
 

@@ -26,8 +26,8 @@ use serde::{Deserialize, Serialize};
 
 use edmd_core::{Counters, VirialMeter};
 
-use crate::output::write_atomic_parts;
-use crate::replica::{Series, Snapshot};
+use super::{Series, Snapshot};
+use crate::files::write_atomic_parts;
 use crate::spec::Spec;
 
 const MAGIC: &[u8; 8] = b"EDMDCKPT";
@@ -94,6 +94,9 @@ pub struct Checkpoints<'a> {
     resumed: AtomicUsize,
     /// The pair collisions the resumed replicas had run before.
     resumed_collisions: AtomicU64,
+    /// Checkpoints written, and the nanoseconds spent on them (the state gathered, written, synced).
+    written: AtomicU64,
+    writing_ns: AtomicU64,
 }
 
 impl<'a> Checkpoints<'a> {
@@ -109,6 +112,8 @@ impl<'a> Checkpoints<'a> {
             notices: Mutex::new(Vec::new()),
             resumed: AtomicUsize::new(0),
             resumed_collisions: AtomicU64::new(0),
+            written: AtomicU64::new(0),
+            writing_ns: AtomicU64::new(0),
         }
     }
 
@@ -152,6 +157,21 @@ impl<'a> Checkpoints<'a> {
     /// The pair collisions the resumed replicas had run before their checkpoints.
     pub fn resumed_collisions(&self) -> u64 {
         self.resumed_collisions.load(Ordering::Relaxed)
+    }
+
+    /// Checkpoints written, and the seconds they took (summed over the replicas).
+    pub fn written(&self) -> (u64, f64) {
+        (
+            self.written.load(Ordering::Relaxed),
+            self.writing_ns.load(Ordering::Relaxed) as f64 * 1e-9,
+        )
+    }
+
+    /// Counts a checkpoint that took `seconds`, from gathering the state to its rename.
+    pub(crate) fn count(&self, seconds: f64) {
+        self.written.fetch_add(1, Ordering::Relaxed);
+        self.writing_ns
+            .fetch_add((seconds * 1e9) as u64, Ordering::Relaxed);
     }
 
     /// Tells the run's user about a checkpoint (at the end of the run).
@@ -255,8 +275,7 @@ fn open(path: &Path) -> std::io::Result<(File, Header, u64)> {
         return Err(bad("not an edmd checkpoint"));
     }
     let head = read_section(&mut f, size)?;
-    let header: Header =
-        serde_json::from_slice(&head).map_err(|e| bad(format!("header: {e}")))?;
+    let header: Header = serde_json::from_slice(&head).map_err(|e| bad(format!("header: {e}")))?;
     if header.format != FORMAT {
         return Err(bad(format!(
             "format {}, this build reads {FORMAT}",
