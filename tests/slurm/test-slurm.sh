@@ -9,7 +9,10 @@
 #      rest finish, reruns the same submit command, and checks again: no replica lost, none duplicated,
 #      the output equal to the local run;
 #   3. refines the sweep of 1 in two rounds with sweeps/slurm/refine.sh (a plan job and 4 array tasks
-#      per round, `edmd refine --plan` / `--shard`) and checks that it equals an unsharded `edmd refine`.
+#      per round, `edmd refine --plan` / `--shard`) and checks that it equals an unsharded `edmd refine`;
+#   4. submits it once more, sends one running task's batch shell SIGUSR1 (what `--signal` sends before
+#      a time limit): edmd checkpoints and exits 75, the task requeues itself, its rerun goes on from
+#      the checkpoints, and the output equals the local run.
 # Daemons are started and stopped by PID. Skipped (exit 0, with a message) only where the packages are
 # missing and cannot be installed.
 set -euo pipefail
@@ -221,4 +224,29 @@ for f in spec.json boundary.json phase.json; do
     cmp -s "$work/local-refined/$f" "$work/out/r/$f" || { echo "test-slurm: error: $f of the sharded refinement differs" >&2; exit 1; }
 done
 say "refinement in 2 rounds of a plan job + 4 array tasks equal to the unsharded refine ($added replicas added) in $((SECONDS - t0)) s"
+# --- 4. a task signalled as before its time limit requeues itself and goes on from its checkpoints ---
+# Slurm's own `--signal=B:USR1@120` comes at a minute's resolution; the test sends the same signal to
+# the same batch shell at once, as the scheduler would two minutes before the limit.
+t0=$SECONDS
+line=$(submit "$work/out/q")
+array=$(echo "$line" | sed -n 's/^submitted array job \([0-9]*\).*/\1/p')
+victim=""
+for _ in $(seq 400); do
+    victim=$(squeue -h -j "$array" -t RUNNING -o %i 2>/dev/null | grep '_' | head -1 || true)
+    [ -n "$victim" ] && break
+    sleep 0.05
+done
+[ -n "$victim" ] || { echo "test-slurm: error: no array task ever ran" >&2; exit 1; }
+sleep 0.4
+scancel --signal=USR1 --batch "$victim"
+say "sent SIGUSR1 to the batch shell of running task $victim"
+wait_idle
+check_equal "$work/out/q"
+log="$work/out/q/slurm-${victim}.log"
+grep -q "requeueing task" "$log" \
+    || { echo "test-slurm: error: task $victim did not requeue itself ($log):" >&2; cat "$log" >&2; exit 1; }
+grep -q "going on from their checkpoints" "$log" \
+    || { echo "test-slurm: error: the requeued task $victim did not go on from its checkpoints ($log):" >&2; cat "$log" >&2; exit 1; }
+ls "$work/out/q/replicas" | grep -q '\.ckpt' && { echo "test-slurm: error: checkpoints left behind" >&2; exit 1; }
+say "a task signalled before its time limit checkpointed, requeued itself and finished from its checkpoints: equal to the local run, in $((SECONDS - t0)) s"
 say "PASSED in $((SECONDS - start_time)) s"

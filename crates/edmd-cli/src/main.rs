@@ -19,6 +19,7 @@ use edmd_sweep::summary::{phase_table, render, Format};
 use edmd_sweep::{merge, SweepError, QUICK_SPEC};
 
 mod bar;
+mod extend;
 mod interrupt;
 mod refine;
 mod size;
@@ -39,6 +40,7 @@ Examples:
   edmd run SPEC -o OUT --shard 3/8           the 4th of 8 shares (e.g. a Slurm array task)
   edmd merge -o OUT A B C                    gather shard outputs A, B, C into OUT, build the index
   edmd refine OUT --rounds 3 --axes eps,box  add replicas where neighbouring points' regimes differ
+  edmd extend OUT --tau-max 1600             continue a finished sweep to a longer tau_max
   edmd status OUT                            how far a sweep has got
   edmd summarize OUT --format csv            the phase table as CSV
   edmd validate-spec SPEC                    check a spec without running it
@@ -101,6 +103,9 @@ enum Command {
     /// Refine a finished sweep's phase diagram: add the midpoints of neighbouring grid points whose
     /// regimes differ, run them, and repeat (docs/sweep-spec.md, "Refinement").
     Refine(RefineArgs),
+    /// Continue a finished sweep to a longer stop.tau_max: bit-identical to a sweep run that long from
+    /// the start (docs/output.md, "Extending a sweep").
+    Extend(extend::ExtendArgs),
     /// Show how many replicas of a sweep output are finished, failed, partial or pending.
     Status {
         /// Sweep output directory.
@@ -220,6 +225,7 @@ fn execute(command: Command) -> anyhow::Result<ExitCode> {
             format,
         } => run_command(spec, out, threads, max_memory, shard, force, quiet, format),
         Command::Refine(args) => refine::command(args),
+        Command::Extend(args) => extend::command(args),
         Command::Status { out } => status::status_command(out),
         Command::Merge { inputs, out } => merge_command(inputs, out),
         Command::Summarize { out, format } => summarize_command(out, format),

@@ -33,7 +33,7 @@ mod parameters;
 mod read;
 mod scene;
 use ndarray::{Array1, Array2, Array3};
-pub use read::{check_file, read_record};
+pub use read::{check_file, read_record, read_snapshots};
 
 use crate::record::Status;
 use crate::replica::{Outcome, Snapshot};

@@ -170,3 +170,58 @@ fn aspect_of(p: &hdf5::Group) -> hdf5::Result<String> {
         Ok(String::new())
     }
 }
+
+/// The first `k` snapshots of replica `r`'s file, as the runner held them before writing it: what a
+/// final state leaves in the file rather than keeping twice (`edmd extend`).
+pub fn read_snapshots(
+    path: &Path,
+    r: &crate::spec::Replica,
+    k: usize,
+) -> Result<Vec<crate::replica::Snapshot>, String> {
+    let read = || -> hdf5::Result<Vec<crate::replica::Snapshot>> {
+        if k == 0 {
+            return Ok(Vec::new());
+        }
+        let gas = hdf5::File::open(path)?.group("particles/gas")?;
+        let frames = |name: &str| -> hdf5::Result<Vec<f64>> { gas.dataset(name)?.read_raw() };
+        let position = frames("position/value")?;
+        let velocity = frames("velocity/value")?;
+        let step: Vec<i64> = gas.dataset("position/step")?.read_raw()?;
+        let time = frames("position/time")?;
+        let spins = if r.rough() {
+            frames("angular_velocity/value")?
+        } else {
+            Vec::new()
+        };
+        let offsets = if r.sheared() {
+            frames("box/offset/value")?
+        } else {
+            vec![0.0; step.len()]
+        };
+        if step.len() < k {
+            return Err(hdf5::Error::from(format!(
+                "{} snapshots, the final state counts {k}",
+                step.len()
+            )));
+        }
+        let per = |v: &[f64], j: usize| {
+            let w = v.len() / step.len();
+            v[j * w..(j + 1) * w].to_vec()
+        };
+        Ok((0..k)
+            .map(|j| crate::replica::Snapshot {
+                step: step[j],
+                time: time[j],
+                position: per(&position, j),
+                velocity: per(&velocity, j),
+                angular_velocity: if spins.is_empty() {
+                    Vec::new()
+                } else {
+                    per(&spins, j)
+                },
+                box_offset: offsets[j],
+            })
+            .collect())
+    };
+    read().map_err(|e| format!("{}: {e}", path.display()))
+}

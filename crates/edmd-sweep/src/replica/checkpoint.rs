@@ -60,6 +60,8 @@ pub struct Header {
 pub(crate) struct RunnerState {
     pub series: Series,
     pub snapshots: Vec<Snapshot>,
+    /// A final state keeps its snapshots in the replica's file only: the first this many of it.
+    pub snapshots_in_file: usize,
     /// The sample point the run is heading for, and the next snapshot time.
     pub point: f64,
     pub next_snapshot: Option<f64>,
@@ -85,6 +87,7 @@ pub(crate) struct Saved {
 pub struct Checkpoints<'a> {
     every_s: f64,
     every_tau: Option<f64>,
+    keep_final: bool,
     spec_hash: String,
     dir: PathBuf,
     interrupt: &'a AtomicBool,
@@ -106,6 +109,7 @@ impl<'a> Checkpoints<'a> {
         Checkpoints {
             every_s: c.every_s,
             every_tau: c.every_tau,
+            keep_final: c.keep_final,
             spec_hash: spec.hash(),
             dir,
             interrupt,
@@ -115,6 +119,11 @@ impl<'a> Checkpoints<'a> {
             written: AtomicU64::new(0),
             writing_ns: AtomicU64::new(0),
         }
+    }
+
+    /// Whether replicas keep their final state for `edmd extend`.
+    pub fn keep_final(&self) -> bool {
+        self.keep_final
     }
 
     /// Whether the run was interrupted.
@@ -181,6 +190,22 @@ impl<'a> Checkpoints<'a> {
 
     /// Writes replica `index`'s checkpoint; a failure becomes a notice, not an error.
     pub(crate) fn save(&self, index: usize, tau: f64, collisions: u64, why: &str, s: &Saved) {
+        self.write(&self.path(index), index, tau, collisions, why, s);
+    }
+
+    /// Writes replica `index`'s final state (`rNNNNN.final`), from which `edmd extend` goes on.
+    pub(crate) fn save_final(&self, index: usize, tau: f64, collisions: u64, s: &Saved) {
+        self.write(
+            &final_in(&self.dir, index),
+            index,
+            tau,
+            collisions,
+            "final",
+            s,
+        );
+    }
+
+    fn write(&self, path: &Path, index: usize, tau: f64, collisions: u64, why: &str, s: &Saved) {
         let header = Header {
             format: FORMAT,
             spec_hash: self.spec_hash.clone(),
@@ -198,7 +223,7 @@ impl<'a> Checkpoints<'a> {
         let head_len = (head.len() as u64).to_le_bytes();
         let runner_len = (runner.len() as u64).to_le_bytes();
         let parts: [&[u8]; 6] = [MAGIC, &head_len, &head, &runner_len, &runner, &s.engine];
-        let written = write_atomic_parts(&self.path(index), &parts);
+        let written = write_atomic_parts(path, &parts);
         if let Err(e) = written {
             self.notice(format!("checkpoint not written, the replica goes on: {e}"));
         }
@@ -208,6 +233,11 @@ impl<'a> Checkpoints<'a> {
 /// The checkpoint of replica `index` in the replicas' directory `dir`: `rNNNNN.ckpt`.
 pub fn file_in(dir: &Path, index: usize) -> PathBuf {
     dir.join(format!("r{index:05}.ckpt"))
+}
+
+/// The final state of replica `index` in the replicas' directory `dir`: `rNNNNN.final`.
+pub fn final_in(dir: &Path, index: usize) -> PathBuf {
+    dir.join(format!("r{index:05}.final"))
 }
 
 /// When the next checkpoint of one replica is due.
@@ -291,7 +321,7 @@ pub fn read_header(path: &Path) -> std::io::Result<Header> {
 }
 
 /// The header and the saved state of the checkpoint at `path`.
-fn read(path: &Path) -> std::io::Result<(Header, Saved)> {
+pub(crate) fn read(path: &Path) -> std::io::Result<(Header, Saved)> {
     let (mut f, header, size) = open(path)?;
     let runner = read_section(&mut f, size)?;
     let runner: RunnerState =

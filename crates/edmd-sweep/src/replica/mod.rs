@@ -14,6 +14,7 @@ pub use crate::record::Status;
 use crate::spec::{viscoelastic, BoundaryKind, Remedy, Replica, RuleSpec, Spec};
 
 pub mod checkpoint;
+pub mod extend;
 mod points;
 mod sampler;
 mod scene_theory;

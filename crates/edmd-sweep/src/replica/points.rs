@@ -41,6 +41,30 @@ impl Points {
         }
     }
 
+    /// τ_max, the last point.
+    pub(super) fn tau_max(&self) -> f64 {
+        self.tau_max
+    }
+
+    /// Where a run that has reached `p` (a point of an earlier, shorter schedule, not yet sampled)
+    /// is heading in this one: the first point at or after `p`; the next snapshot time is set as
+    /// the run would have it there. Between the earlier schedule's points below its end and this
+    /// one's there is no point that only one of them has.
+    pub(super) fn resume_at(&mut self, p: f64) -> Option<f64> {
+        let from = p - 1e-9 * p.abs().max(1.0);
+        let tau_max = self.tau_max;
+        self.next_snapshot = self
+            .snapshot_times
+            .first_at_or_after(from)
+            .filter(|&t| t <= tau_max);
+        earliest(
+            self.schedule
+                .first_at_or_after(from)
+                .filter(|&t| t <= tau_max),
+            self.next_snapshot,
+        )
+    }
+
     pub(super) fn first(&self) -> Option<f64> {
         earliest(self.schedule.first_at_or_after(0.0), self.next_snapshot)
     }
@@ -64,7 +88,7 @@ impl Points {
 
 /// Two schedule points closer than round-off are one sample (a snapshot grid point and a sample
 /// grid point computed as different products of the same τ).
-fn same_point(a: f64, b: f64) -> bool {
+pub(super) fn same_point(a: f64, b: f64) -> bool {
     (a - b).abs() <= 1e-9 * a.abs().max(1.0)
 }
 

@@ -7,7 +7,7 @@ use edmd_core::{
 };
 
 use super::checkpoint::{Checkpoints, RunnerState, Saved, Timer};
-use super::points::Points;
+use super::points::{same_point, Points};
 use super::sampler::{snapshot, Sampler};
 use super::{theory, Outcome, Series, Snapshot, Status};
 use crate::classify::{classify, settled, Class, Classification, Theory};
@@ -223,6 +223,50 @@ impl<'a> Run<'a> {
         sampler.resume(s.t0, s.meter, s.start);
     }
 
+    /// The runner's part of a checkpoint (with its snapshots, or only their count: a final
+    /// state's are in the replica's file).
+    fn runner_state(&self, sampler: &Sampler<'_>, with_snapshots: bool) -> RunnerState {
+        let (t0, meter, start) = sampler.state();
+        RunnerState {
+            series: self.series.clone(),
+            snapshots: if with_snapshots {
+                self.snapshots.clone()
+            } else {
+                Vec::new()
+            },
+            snapshots_in_file: if with_snapshots {
+                0
+            } else {
+                self.snapshots.len()
+            },
+            point: self.point.expect("a state is saved on the way to a point"),
+            next_snapshot: self.points.next_snapshot,
+            sampled_at: self.sampled_at,
+            window: self.window,
+            t0,
+            meter,
+            start,
+            wall_s: self.wall_before + self.started.elapsed().as_secs_f64(),
+        }
+    }
+
+    /// At τ_max, before its sample: keeps the state for `edmd extend`, which goes on from here.
+    fn save_final<const D: usize>(&self, sim: &dyn Engine<D>, sampler: &Sampler<'_>) {
+        let Some(c) = self.ckpt.filter(|c| c.keep_final()) else {
+            return;
+        };
+        let saved = Saved {
+            runner: self.runner_state(sampler, false),
+            engine: sim.save_state(),
+        };
+        c.save_final(
+            self.r.index,
+            sim.tau(),
+            sim.counters().pair_collisions,
+            &saved,
+        );
+    }
+
     /// Saves the replica's state when a checkpoint is due (between two chunks of events); after a
     /// signal's checkpoint the run stops.
     fn checkpoint_if_due<const D: usize>(&mut self, sim: &dyn Engine<D>, sampler: &Sampler<'_>) {
@@ -235,21 +279,8 @@ impl<'a> Run<'a> {
             return;
         };
         let began = std::time::Instant::now();
-        let (t0, meter, start) = sampler.state();
-        let runner = RunnerState {
-            series: self.series.clone(),
-            snapshots: self.snapshots.clone(),
-            point: self.point.expect("checkpoints come on the way to a point"),
-            next_snapshot: self.points.next_snapshot,
-            sampled_at: self.sampled_at,
-            window: self.window,
-            t0,
-            meter,
-            start,
-            wall_s: self.wall_before + self.started.elapsed().as_secs_f64(),
-        };
         let saved = Saved {
-            runner,
+            runner: self.runner_state(sampler, true),
             engine: sim.save_state(),
         };
         let collisions = sim.counters().pair_collisions;
@@ -274,6 +305,9 @@ impl<'a> Run<'a> {
             self.advance(sim, sampler, target, progress);
             if self.interrupted || self.stalled.is_some() || self.end != RunEnd::Reached {
                 break;
+            }
+            if same_point(point, self.points.tau_max()) {
+                self.save_final(&*sim, sampler);
             }
             let snap = self.points.take_snapshot(point);
             let c = sim.counters().pair_collisions;

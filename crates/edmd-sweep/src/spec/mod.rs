@@ -234,6 +234,14 @@ pub struct CheckpointSpec {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schemars(extend("exclusiveMinimum" = 0))]
     pub every_tau: Option<f64>,
+    /// Keep each replica's state at `stop.tau_max` (`rNNNNN.final`), from which `edmd extend`
+    /// continues it (default true).
+    #[serde(default = "default_keep_final")]
+    pub keep_final: bool,
+}
+
+fn default_keep_final() -> bool {
+    true
 }
 
 fn default_checkpoint_seconds() -> f64 {
@@ -245,6 +253,7 @@ impl Default for CheckpointSpec {
         CheckpointSpec {
             every_s: default_checkpoint_seconds(),
             every_tau: None,
+            keep_final: default_keep_final(),
         }
     }
 }
