@@ -225,21 +225,30 @@ for f in spec.json boundary.json phase.json; do
 done
 say "refinement in 2 rounds of a plan job + 4 array tasks equal to the unsharded refine ($added replicas added) in $((SECONDS - t0)) s"
 # --- 4. a task signalled as before its time limit requeues itself and goes on from its checkpoints ---
-# Slurm's own `--signal=B:USR1@120` comes at a minute's resolution; the test sends the same signal to
-# the same batch shell at once, as the scheduler would two minutes before the limit.
+# Slurm's `--signal=B:USR1@120` has a minute's resolution and `scancel --batch --signal` races the
+# task's own requeue in this Slurm, so the test does what slurmstepd does: SIGUSR1 to the task's
+# batch shell (the parent of its edmd), which passes it on.
 t0=$SECONDS
 line=$(submit "$work/out/q")
 array=$(echo "$line" | sed -n 's/^submitted array job \([0-9]*\).*/\1/p')
-victim=""
+edmd_pid=""
 for _ in $(seq 400); do
-    victim=$(squeue -h -j "$array" -t RUNNING -o %i 2>/dev/null | grep '_' | head -1 || true)
-    [ -n "$victim" ] && break
+    edmd_pid=$(pgrep -f "out/q --shard 1/4" | head -1 || true)
+    [ -n "$edmd_pid" ] && break
     sleep 0.05
 done
-[ -n "$victim" ] || { echo "test-slurm: error: no array task ever ran" >&2; exit 1; }
-sleep 0.4
-scancel --signal=USR1 --batch "$victim"
+[ -n "$edmd_pid" ] || { echo "test-slurm: error: task 1 never ran" >&2; exit 1; }
+sleep 0.3
+shell_pid=$(ps -o ppid= -p "$edmd_pid" | tr -d ' ')
+kill -USR1 "$shell_pid"
+victim="${array}_1"
 say "sent SIGUSR1 to the batch shell of running task $victim"
+# Slurm holds a requeued job back for a while (BeginTime); the test lets it start at once.
+for _ in $(seq 200); do
+    state=$(squeue -h -j "$victim" -o %T 2>/dev/null || true)
+    [ "$state" = PENDING ] && { scontrol update JobId="$victim" StartTime=now; break; }
+    sleep 0.05
+done
 wait_idle
 check_equal "$work/out/q"
 log="$work/out/q/slurm-${victim}.log"
