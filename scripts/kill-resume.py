@@ -91,6 +91,7 @@ def trial(edmd, spec, ref, out, rng, kills, sig, wall, compare):
         raise SystemExit(f"the final run failed ({rc}): {err.strip()}")
     went_on += resumed(err)
     left = sorted(p.name for p in (out / "replicas").iterdir() if not p.name.endswith(".h5"))
+    left += sorted(p.name for p in (out / "states").iterdir() if not p.name.endswith(".final"))
     if left:
         raise SystemExit(f"{out}: left behind {left}")
     same = compare.main(str(ref), str(out)) == 0

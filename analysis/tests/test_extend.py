@@ -36,12 +36,12 @@ def test_extend_equals_a_direct_run(tmp_path, capsys, base, short, long):
 
     run_edmd("run", write(long, "long.json"), "-o", tmp_path / "direct", "-q")
     run_edmd("run", write(short, "short.json"), "-o", tmp_path / "extended", "-q")
-    finals = list((tmp_path / "extended" / "replicas").glob("*.final"))
+    finals = list((tmp_path / "extended" / "states").glob("*.final"))
     assert finals, "no final states kept"
     r = run_edmd("extend", tmp_path / "extended", "--tau-max", long, "-q")
     assert "go on from their final state" in r.stderr, r.stderr
     assert compare_outputs.main(str(tmp_path / "direct"), str(tmp_path / "extended")) == 0, capsys.readouterr().out
-    left = [p.name for p in (tmp_path / "extended" / "replicas").iterdir() if p.suffix == ".ckpt"]
+    left = [p.name for p in (tmp_path / "extended" / "states").iterdir() if p.suffix != ".final"]
     assert not left
 
 

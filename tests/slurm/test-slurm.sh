@@ -256,6 +256,6 @@ grep -q "requeueing task" "$log" \
     || { echo "test-slurm: error: task $victim did not requeue itself ($log):" >&2; cat "$log" >&2; exit 1; }
 grep -q "going on from their checkpoints" "$log" \
     || { echo "test-slurm: error: the requeued task $victim did not go on from its checkpoints ($log):" >&2; cat "$log" >&2; exit 1; }
-ls "$work/out/q/replicas" | grep -q '\.ckpt' && { echo "test-slurm: error: checkpoints left behind" >&2; exit 1; }
+ls "$work/out/q/states" | grep -q '\.ckpt' && { echo "test-slurm: error: checkpoints left behind" >&2; exit 1; }
 say "a task signalled before its time limit checkpointed, requeued itself and finished from its checkpoints: equal to the local run, in $((SECONDS - t0)) s"
 say "PASSED in $((SECONDS - start_time)) s"

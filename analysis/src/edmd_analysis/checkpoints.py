@@ -1,4 +1,4 @@
-"""The checkpoints of a sweep's unfinished replicas (OUT/replicas/rNNNNN.ckpt): how far each got.
+"""The checkpoints of a sweep's unfinished replicas (OUT/states/rNNNNN.ckpt): how far each got.
 
 A checkpoint starts with "EDMDCKPT", a little-endian u64 length and a JSON header (docs/output.md,
 "Checkpoints"); only the header is read here, the states are the engine's own."""
@@ -28,7 +28,7 @@ def checkpoints(out) -> list:
     """Every checkpoint under OUT/replicas, by replica: its header plus `path` and `age_s` (seconds
     since it was written). Unreadable ones are listed with an `error` instead."""
     rows = []
-    for p in sorted((Path(out) / "replicas").glob("r*.ckpt")):
+    for p in sorted((Path(out) / "states").glob("r*.ckpt")):
         try:
             h = read_checkpoint_header(p)
             h["age_s"] = time.time() - h["written"]

@@ -58,6 +58,14 @@ pub fn merge(inputs: &[PathBuf], target: &Path) -> Result<MergeReport, SweepErro
                 continue;
             }
             copy_replica(&src, &out.part_path(&r), &out.replica_path(&r))?;
+            // The replica's state at tau_max goes with it, for `edmd extend`.
+            let state = dir.final_state_path(&r);
+            if state.exists() {
+                fs::create_dir_all(out.states_dir())
+                    .map_err(|e| SweepError::io("cannot create", &out.states_dir(), e))?;
+                let dest = out.final_state_path(&r);
+                copy_replica(&state, &crate::files::tmp_path(&dest), &dest)?;
+            }
         }
     }
     // The index is written even with replicas missing: it lists them, and a later merge rewrites it.

@@ -3,6 +3,7 @@
 //! ```text
 //! OUT/spec.json          the canonical spec (every default filled in); guards against mixing specs
 //! OUT/replicas/rNNNNN.h5 one H5MD file per finished replica (written as .h5.part, then renamed)
+//! OUT/states/rNNNNN.ckpt a running replica's checkpoint; rNNNNN.final a finished one's state at τ_max
 //! OUT/sweep.h5           index: one column per parameter / result, external links to the replicas
 //! OUT/summary.csv        the same table as CSV
 //! OUT/summary.json       the same table as JSON
@@ -206,9 +207,10 @@ impl OutDir {
                 fs::remove_file(&p).map_err(|e| SweepError::io("cannot remove", &p, e))?;
             }
         }
-        let dir = self.replicas_dir();
-        if dir.exists() {
-            fs::remove_dir_all(&dir).map_err(|e| SweepError::io("cannot remove", &dir, e))?;
+        for dir in [self.replicas_dir(), self.states_dir()] {
+            if dir.exists() {
+                fs::remove_dir_all(&dir).map_err(|e| SweepError::io("cannot remove", &dir, e))?;
+            }
         }
         Ok(())
     }
@@ -233,9 +235,19 @@ impl OutDir {
         self.replicas_dir().join(r.file_name())
     }
 
-    /// A running replica's checkpoint (`rNNNNN.ckpt`, removed once its final file is in place).
+    /// `OUT/states`: the checkpoints of replicas in flight and the final states of finished ones.
+    pub fn states_dir(&self) -> PathBuf {
+        self.root.join("states")
+    }
+
+    /// A running replica's checkpoint (`states/rNNNNN.ckpt`, removed once its final file is in place).
     pub fn checkpoint_path(&self, r: &Replica) -> PathBuf {
-        crate::replica::checkpoint::file_in(&self.replicas_dir(), r.index)
+        crate::replica::checkpoint::file_in(&self.states_dir(), r.index)
+    }
+
+    /// A finished replica's state at τ_max (`states/rNNNNN.final`), from which `edmd extend` goes on.
+    pub fn final_state_path(&self, r: &Replica) -> PathBuf {
+        crate::replica::checkpoint::final_in(&self.states_dir(), r.index)
     }
 
     /// Temporary path of a replica's file while it is written.

@@ -149,7 +149,7 @@ fn unfinished<'a>(
 /// Removes the temporary files of checkpoints that a killed run was writing for replicas of `mine`
 /// (`rNNNNN.ckpt.tmpPID`); the lock keeps any other run off these replicas.
 fn remove_stale_checkpoint_tmp(out: &OutDir, mine: &[Replica]) -> Result<(), SweepError> {
-    let Ok(entries) = std::fs::read_dir(out.replicas_dir()) else {
+    let Ok(entries) = std::fs::read_dir(out.states_dir()) else {
         return Ok(());
     };
     let ours: std::collections::HashSet<usize> = mine.iter().map(|r| r.index).collect();
@@ -285,7 +285,7 @@ pub fn run_sweep(
     progress.start(n_todo, total);
     let never = Arc::new(AtomicBool::new(false));
     let interrupt = opts.interrupt.as_ref().unwrap_or(&never);
-    let ckpts = Checkpoints::new(spec, out.replicas_dir(), interrupt);
+    let ckpts = Checkpoints::new(spec, out.states_dir(), interrupt);
     let tally = Tally::default();
     let work = || {
         // One replica per job: rayon would otherwise run runs of several replicas back to back on one

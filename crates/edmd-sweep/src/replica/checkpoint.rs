@@ -8,7 +8,7 @@
 //! meter, the stall window), so the final file is bit for bit the one an uninterrupted run writes.
 //! A checkpoint is taken between two chunks of events, where the runner holds nothing else.
 //!
-//! The file, `replicas/rNNNNN.ckpt`, written under a temporary name, synced and renamed:
+//! The file, `states/rNNNNN.ckpt`, written under a temporary name, synced and renamed:
 //! ```text
 //! "EDMDCKPT" | u64 LE header length | header (JSON, [`Header`]) | u64 LE runner length
 //!            | runner state (postcard) | engine state (the rest)
@@ -206,6 +206,13 @@ impl<'a> Checkpoints<'a> {
     }
 
     fn write(&self, path: &Path, index: usize, tau: f64, collisions: u64, why: &str, s: &Saved) {
+        if let Err(e) = std::fs::create_dir_all(&self.dir) {
+            self.notice(format!(
+                "checkpoint not written, the replica goes on: {}: {e}",
+                self.dir.display()
+            ));
+            return;
+        }
         let header = Header {
             format: FORMAT,
             spec_hash: self.spec_hash.clone(),

@@ -10,7 +10,7 @@
 
 use std::sync::atomic::AtomicBool;
 
-use super::checkpoint::{final_in, read, Checkpoints};
+use super::checkpoint::{read, Checkpoints};
 use super::points::Points;
 use crate::files::remove_stale;
 use crate::h5md::read_snapshots;
@@ -48,7 +48,7 @@ pub fn extended(old: &Spec, tau_max: f64) -> Result<Spec, SweepError> {
 /// loses its file). Safe to repeat after a kill: a replica already converted has no file left.
 pub fn prepare(out: &OutDir, old: &Spec, new: &Spec) -> Result<Prepared, SweepError> {
     let never = AtomicBool::new(false);
-    let ckpts = Checkpoints::new(new, out.replicas_dir(), &never);
+    let ckpts = Checkpoints::new(new, out.states_dir(), &never);
     let old_hash = old.hash();
     let mut done = Prepared::default();
     for r in new.replicas() {
@@ -56,7 +56,7 @@ pub fn prepare(out: &OutDir, old: &Spec, new: &Spec) -> Result<Prepared, SweepEr
         if !file.exists() {
             continue;
         }
-        let fin = final_in(&out.replicas_dir(), r.index);
+        let fin = out.final_state_path(&r);
         match convert(out, &r, &old_hash, new, &ckpts) {
             Ok(()) => done.from_final += 1,
             Err(why) => {
@@ -80,7 +80,7 @@ fn convert(
     new: &Spec,
     ckpts: &Checkpoints,
 ) -> Result<(), String> {
-    let fin = final_in(&out.replicas_dir(), r.index);
+    let fin = out.final_state_path(r);
     if !fin.exists() {
         return Err("no final state (the replica ended before tau_max, or kept none)".into());
     }
