@@ -75,11 +75,47 @@ pub(crate) struct RunnerState {
     pub wall_s: f64,
 }
 
+/// [`RunnerState`] as it is written: borrowed from the running replica (no copy of its series and
+/// snapshots), the same fields in the same order.
+#[derive(Debug, Serialize)]
+pub(crate) struct RunnerSaving<'a> {
+    pub series: &'a Series,
+    pub snapshots: &'a [Snapshot],
+    pub snapshots_in_file: usize,
+    pub point: f64,
+    pub next_snapshot: Option<f64>,
+    pub sampled_at: Option<u64>,
+    pub window: Counters,
+    pub t0: f64,
+    pub meter: Option<VirialMeter>,
+    pub start: Counters,
+    pub wall_s: f64,
+}
+
 /// A replica's state as a checkpoint holds it.
 #[derive(Debug, Clone)]
 pub(crate) struct Saved {
     pub runner: RunnerState,
     pub engine: Vec<u8>,
+}
+
+/// A replica's state encoded for a checkpoint: the runner's part, its wall seconds, the engine's.
+#[derive(Debug)]
+pub(crate) struct Encoded {
+    pub runner: Vec<u8>,
+    pub wall_s: f64,
+    pub engine: Vec<u8>,
+}
+
+impl Encoded {
+    /// Encodes a runner state ([`RunnerState`] or [`RunnerSaving`]) beside the engine's bytes.
+    pub(crate) fn new(runner: &impl Serialize, wall_s: f64, engine: Vec<u8>) -> Self {
+        Encoded {
+            runner: postcard::to_allocvec(runner).expect("the runner state serialises"),
+            wall_s,
+            engine,
+        }
+    }
 }
 
 /// How a run checkpoints its replicas: the settings, the interrupt flag and the first write error.
@@ -189,12 +225,12 @@ impl<'a> Checkpoints<'a> {
     }
 
     /// Writes replica `index`'s checkpoint; a failure becomes a notice, not an error.
-    pub(crate) fn save(&self, index: usize, tau: f64, collisions: u64, why: &str, s: &Saved) {
+    pub(crate) fn save(&self, index: usize, tau: f64, collisions: u64, why: &str, s: &Encoded) {
         self.write(&self.path(index), index, tau, collisions, why, s);
     }
 
     /// Writes replica `index`'s final state (`rNNNNN.final`), from which `edmd extend` goes on.
-    pub(crate) fn save_final(&self, index: usize, tau: f64, collisions: u64, s: &Saved) {
+    pub(crate) fn save_final(&self, index: usize, tau: f64, collisions: u64, s: &Encoded) {
         self.write(
             &final_in(&self.dir, index),
             index,
@@ -205,7 +241,7 @@ impl<'a> Checkpoints<'a> {
         );
     }
 
-    fn write(&self, path: &Path, index: usize, tau: f64, collisions: u64, why: &str, s: &Saved) {
+    fn write(&self, path: &Path, index: usize, tau: f64, collisions: u64, why: &str, s: &Encoded) {
         if let Err(e) = std::fs::create_dir_all(&self.dir) {
             self.notice(format!(
                 "checkpoint not written, the replica goes on: {}: {e}",
@@ -219,17 +255,17 @@ impl<'a> Checkpoints<'a> {
             replica: index,
             tau,
             collisions,
-            wall_s: s.runner.wall_s,
+            wall_s: s.wall_s,
             written: SystemTime::now()
                 .duration_since(UNIX_EPOCH)
                 .map_or(0.0, |d| d.as_secs_f64()),
             reason: why.into(),
         };
         let head = serde_json::to_vec(&header).expect("a header serialises");
-        let runner = postcard::to_allocvec(&s.runner).expect("the runner state serialises");
+        let runner = &s.runner;
         let head_len = (head.len() as u64).to_le_bytes();
         let runner_len = (runner.len() as u64).to_le_bytes();
-        let parts: [&[u8]; 6] = [MAGIC, &head_len, &head, &runner_len, &runner, &s.engine];
+        let parts: [&[u8]; 6] = [MAGIC, &head_len, &head, &runner_len, runner, &s.engine];
         let written = write_atomic_parts(path, &parts);
         if let Err(e) = written {
             self.notice(format!("checkpoint not written, the replica goes on: {e}"));

@@ -10,7 +10,7 @@
 
 use std::sync::atomic::AtomicBool;
 
-use super::checkpoint::{read, Checkpoints};
+use super::checkpoint::{read, Checkpoints, Encoded};
 use super::points::Points;
 use crate::files::remove_stale;
 use crate::h5md::read_snapshots;
@@ -96,7 +96,8 @@ fn convert(
         .resume_at(runner.point)
         .ok_or("no point of the longer schedule after the final state")?;
     runner.next_snapshot = points.next_snapshot;
-    ckpts.save(r.index, header.tau, header.collisions, "extend", &saved);
+    let state = Encoded::new(&saved.runner, saved.runner.wall_s, saved.engine);
+    ckpts.save(r.index, header.tau, header.collisions, "extend", &state);
     match ckpts.notices.lock().expect("lock").pop() {
         Some(e) => Err(e),
         None => Ok(()),

@@ -6,7 +6,7 @@ use edmd_core::{
     Vector, Velocities,
 };
 
-use super::checkpoint::{Checkpoints, RunnerState, Saved, Timer};
+use super::checkpoint::{Checkpoints, Encoded, RunnerSaving, RunnerState, Timer};
 use super::points::{same_point, Points};
 use super::sampler::{snapshot, Sampler};
 use super::{theory, Outcome, Series, Snapshot, Status};
@@ -223,22 +223,20 @@ impl<'a> Run<'a> {
         sampler.resume(s.t0, s.meter, s.start);
     }
 
-    /// The runner's part of a checkpoint (with its snapshots, or only their count: a final
-    /// state's are in the replica's file).
-    fn runner_state(&self, sampler: &Sampler<'_>, with_snapshots: bool) -> RunnerState {
+    /// The replica's state now, encoded (with its snapshots, or only their count: a final state's
+    /// are in the replica's file).
+    fn encoded<const D: usize>(
+        &self,
+        sim: &dyn Engine<D>,
+        sampler: &Sampler<'_>,
+        with_snapshots: bool,
+    ) -> Encoded {
         let (t0, meter, start) = sampler.state();
-        RunnerState {
-            series: self.series.clone(),
-            snapshots: if with_snapshots {
-                self.snapshots.clone()
-            } else {
-                Vec::new()
-            },
-            snapshots_in_file: if with_snapshots {
-                0
-            } else {
-                self.snapshots.len()
-            },
+        let wall_s = self.wall_before + self.started.elapsed().as_secs_f64();
+        let runner = RunnerSaving {
+            series: &self.series,
+            snapshots: if with_snapshots { &self.snapshots } else { &[] },
+            snapshots_in_file: if with_snapshots { 0 } else { self.snapshots.len() },
             point: self.point.expect("a state is saved on the way to a point"),
             next_snapshot: self.points.next_snapshot,
             sampled_at: self.sampled_at,
@@ -246,8 +244,9 @@ impl<'a> Run<'a> {
             t0,
             meter,
             start,
-            wall_s: self.wall_before + self.started.elapsed().as_secs_f64(),
-        }
+            wall_s,
+        };
+        Encoded::new(&runner, wall_s, sim.save_state())
     }
 
     /// At τ_max, before its sample: keeps the state for `edmd extend`, which goes on from here.
@@ -255,16 +254,8 @@ impl<'a> Run<'a> {
         let Some(c) = self.ckpt.filter(|c| c.keep_final()) else {
             return;
         };
-        let saved = Saved {
-            runner: self.runner_state(sampler, false),
-            engine: sim.save_state(),
-        };
-        c.save_final(
-            self.r.index,
-            sim.tau(),
-            sim.counters().pair_collisions,
-            &saved,
-        );
+        let state = self.encoded(sim, sampler, false);
+        c.save_final(self.r.index, sim.tau(), sim.counters().pair_collisions, &state);
     }
 
     /// Saves the replica's state when a checkpoint is due (between two chunks of events); after a
@@ -279,12 +270,9 @@ impl<'a> Run<'a> {
             return;
         };
         let began = std::time::Instant::now();
-        let saved = Saved {
-            runner: self.runner_state(sampler, true),
-            engine: sim.save_state(),
-        };
+        let state = self.encoded(sim, sampler, true);
         let collisions = sim.counters().pair_collisions;
-        c.save(self.r.index, tau, collisions, why, &saved);
+        c.save(self.r.index, tau, collisions, why, &state);
         c.count(began.elapsed().as_secs_f64());
         self.interrupted = why == "signal";
     }
