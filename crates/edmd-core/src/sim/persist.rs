@@ -135,7 +135,9 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             ),
             shear: &self.shear,
         };
-        postcard::to_allocvec(&saving).expect("the state serialises to memory")
+        // Sized up front: growing by doubling copied the state several times (docs/benchmarks.md).
+        let buffer = Vec::with_capacity(self.heap_bytes());
+        postcard::to_extend(&saving, buffer).expect("the state serialises to memory")
     }
 
     /// Replaces the dynamic state with one [`Self::save_state`] wrote from a simulation built
