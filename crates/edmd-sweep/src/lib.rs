@@ -11,6 +11,7 @@
 
 pub mod budget;
 pub mod classify;
+pub mod configuration;
 pub mod domain;
 mod error;
 pub mod files;

@@ -71,6 +71,9 @@ pub struct InitParams<const D: usize> {
     pub melt_tau: Option<f64>,
     /// Event-loop settings (default: tuned to the density).
     pub sim: Option<SimParams>,
+    /// A configuration to start from (positions, velocities, radii, masses) instead of placing
+    /// particles and drawing velocities; no melt unless `melt_tau` asks for one.
+    pub given: Option<Vec<ParticleInit<D>>>,
 }
 
 impl<const D: usize> InitParams<D> {
@@ -105,6 +108,7 @@ impl<const D: usize> InitParams<D> {
             seed: 0,
             melt_tau: None,
             sim: None,
+            given: None,
         }
     }
 
@@ -133,6 +137,13 @@ impl<const D: usize> InitParams<D> {
     }
 
     fn validate(&self) -> Result<(), EdmdError> {
+        if let Some(g) = self.given.as_ref().filter(|g| g.len() != self.n) {
+            return Err(EdmdError::invalid(
+                "N",
+                self.n,
+                format!("the given configuration holds {} particles", g.len()),
+            ));
+        }
         if self.n < 2 {
             return Err(EdmdError::invalid(
                 "N",
@@ -223,6 +234,12 @@ impl<const D: usize> InitParams<D> {
     /// the random start's tries). Used to refuse a spec before anything runs.
     pub fn preflight<B: Boundary>(&self) -> Result<(), EdmdError> {
         self.validate()?;
+        if let Some(given) = &self.given {
+            // A given configuration is checked whole: inside the box, finite, no overlap.
+            let params = self.sim.unwrap_or_else(|| self.default_sim_params());
+            return Simulation::<D, B, Elastic>::new(self.box_len, given.to_vec(), Elastic, params)
+                .map(|_| ());
+        }
         let phi = self.packing_fraction();
         let lattice = self.on_lattice(phi);
         if lattice {
@@ -272,6 +289,9 @@ impl<const D: usize> InitParams<D> {
         rule: R,
     ) -> Result<Simulation<D, B, R, C>, EdmdError> {
         self.validate()?;
+        if let Some(given) = &self.given {
+            return self.build_given(given, rule);
+        }
         let mut rng = Xoshiro256PlusPlus::seed_from_u64(self.seed);
         let radii: Vec<f64> = self
             .radii
@@ -325,6 +345,35 @@ impl<const D: usize> InitParams<D> {
         if melt > 0.0 && t > 0.0 {
             sim.scale_velocities((self.temperature / t).sqrt());
         }
+        sim.reset_counters();
+        Ok(sim)
+    }
+}
+
+impl<const D: usize> InitParams<D> {
+    /// [`Self::build_with_calendar`] from a given configuration: its particles as they are, melted
+    /// elastically only if `melt_tau` asks (then scaled back to its temperature).
+    fn build_given<B: Boundary, R: CollisionRule, C: Calendar>(
+        &self,
+        given: &[ParticleInit<D>],
+        rule: R,
+    ) -> Result<Simulation<D, B, R, C>, EdmdError> {
+        let params = self.sim.unwrap_or_else(|| self.default_sim_params());
+        let melt = self.melt_tau.unwrap_or(0.0);
+        let particles = given.to_vec();
+        let mut sim = if melt > 0.0 {
+            let mut sim =
+                Simulation::<D, B, Elastic, C>::new(self.box_len, particles, Elastic, params)?;
+            let t0 = sim.temperature();
+            sim.run(Stop::Tau(melt));
+            let t = sim.temperature();
+            if t > 0.0 && t0 > 0.0 {
+                sim.scale_velocities((t0 / t).sqrt());
+            }
+            sim.with_rule(rule)
+        } else {
+            Simulation::<D, B, R, C>::new(self.box_len, particles, rule, params)?
+        };
         sim.reset_counters();
         Ok(sim)
     }

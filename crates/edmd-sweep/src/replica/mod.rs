@@ -15,6 +15,7 @@ use crate::spec::{viscoelastic, BoundaryKind, Remedy, Replica, RuleSpec, Spec};
 
 pub mod checkpoint;
 pub mod extend;
+mod given;
 mod points;
 mod sampler;
 mod scene_theory;
@@ -300,7 +301,7 @@ fn by_boundary<const D: usize>(
 /// grid of its box), so that `validate-spec` and `run` refuse what would fail at run time.
 pub(crate) fn preflight(spec: &Spec, r: &Replica) -> Result<(), EdmdError> {
     fn scene<const D: usize>(spec: &Spec, r: &Replica) -> Result<(), EdmdError> {
-        let p = simulate::init_params::<D>(spec, r).0;
+        let p = simulate::init_params::<D>(spec, r)?.0;
         match (r.boundary, r.gravity > 0.0) {
             (BoundaryKind::Periodic, _) => p.preflight::<Periodic>(),
             (BoundaryKind::LeesEdwards, _) => p.preflight::<LeesEdwards>(),
@@ -310,10 +311,18 @@ pub(crate) fn preflight(spec: &Spec, r: &Replica) -> Result<(), EdmdError> {
             (BoundaryKind::Channel, true) => p.preflight::<Column>(),
         }
     }
-    match r.dim {
+    let checked = match r.dim {
         2 => scene::<2>(spec, r),
         3 => scene::<3>(spec, r),
         d => Err(EdmdError::invalid("dim", d, "dimension must be 2 or 3")),
+    };
+    // What the engine finds wrong with a given configuration (an overlap, a particle outside the
+    // box) names the file too.
+    match (checked, &spec.init.from) {
+        (Err(e), Some(from)) if !e.to_string().contains(&from.file) => {
+            Err(EdmdError::invalid("init.from", &from.file, e.to_string()))
+        }
+        (checked, _) => checked,
     }
 }
 

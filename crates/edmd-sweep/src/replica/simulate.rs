@@ -41,7 +41,7 @@ pub(super) fn simulate<const D: usize, B: Boundary, R: CollisionRule>(
             None
         })
     });
-    let (mut p, species_of) = init_params::<D>(spec, r);
+    let (mut p, species_of) = init_params::<D>(spec, r)?;
     if saved.is_some() {
         // The state comes from the checkpoint: no melt to run first.
         p.melt_tau = Some(0.0);
@@ -55,8 +55,11 @@ pub(super) fn simulate<const D: usize, B: Boundary, R: CollisionRule>(
 }
 
 /// The set-up of replica `r`: box, seed, velocities, species (and the species of each slot), walls,
-/// gravity and floor.
-pub(super) fn init_params<const D: usize>(spec: &Spec, r: &Replica) -> (InitParams<D>, Vec<usize>) {
+/// gravity and floor, and the configuration it starts from, if the spec gives one.
+pub(super) fn init_params<const D: usize>(
+    spec: &Spec,
+    r: &Replica,
+) -> Result<(InitParams<D>, Vec<usize>), EdmdError> {
     let sides = r.sides();
     let mut p = InitParams::<D>::in_box(r.n, Vector::<D>::from_fn(|a, _| sides[a]));
     p.seed = r.seed;
@@ -86,7 +89,10 @@ pub(super) fn init_params<const D: usize>(spec: &Spec, r: &Replica) -> (InitPara
             ..p.default_sim_params()
         });
     }
-    (p, species_of)
+    if let Some(from) = &spec.init.from {
+        p.given = Some(super::given::particles::<D>(from, r, &p)?);
+    }
+    Ok((p, species_of))
 }
 
 /// Melts, cools to the stop, samples observables and order parameters on the schedule, keeps the
@@ -236,7 +242,11 @@ impl<'a> Run<'a> {
         let runner = RunnerSaving {
             series: &self.series,
             snapshots: if with_snapshots { &self.snapshots } else { &[] },
-            snapshots_in_file: if with_snapshots { 0 } else { self.snapshots.len() },
+            snapshots_in_file: if with_snapshots {
+                0
+            } else {
+                self.snapshots.len()
+            },
             point: self.point.expect("a state is saved on the way to a point"),
             next_snapshot: self.points.next_snapshot,
             sampled_at: self.sampled_at,
@@ -255,7 +265,12 @@ impl<'a> Run<'a> {
             return;
         };
         let state = self.encoded(sim, sampler, false);
-        c.save_final(self.r.index, sim.tau(), sim.counters().pair_collisions, &state);
+        c.save_final(
+            self.r.index,
+            sim.tau(),
+            sim.counters().pair_collisions,
+            &state,
+        );
     }
 
     /// Saves the replica's state when a checkpoint is due (between two chunks of events); after a

@@ -15,6 +15,7 @@ mod check;
 mod check_rule;
 mod check_scene;
 mod check_sections;
+mod checkpoint;
 mod dup_keys;
 mod expand;
 mod one_or_many;
@@ -24,6 +25,7 @@ mod species;
 
 pub use crate::domain::{MAX_REPLICAS, MAX_SAMPLES};
 pub use boundary::BoundaryKind;
+pub use checkpoint::CheckpointSpec;
 
 pub use check_rule::viscoelastic;
 pub use expand::{aspect_label, ball_volume, close_packing, stable_hash, Density, Replica, Shard};
@@ -142,6 +144,22 @@ pub struct InitSpec {
     #[serde(default)]
     #[schemars(schema_with = "domain::melt_optional")]
     pub melt_tau: Option<f64>,
+    /// Start from a configuration in a file instead of placing particles (docs/sweep-spec.md,
+    /// "Starting from a configuration").
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub from: Option<FromSpec>,
+}
+
+/// A configuration to start every replica from.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct FromSpec {
+    /// An edmd replica file or H5MD file (`.h5`), or a plain-text file of D positions, D velocities
+    /// and optionally a radius and a mass per line; relative to the working directory.
+    pub file: String,
+    /// Of a replica file: the snapshot nearest this τ (default: the last).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tau: Option<f64>,
 }
 
 impl Default for InitSpec {
@@ -149,6 +167,7 @@ impl Default for InitSpec {
         InitSpec {
             velocities: VelocityKind::Maxwell,
             melt_tau: None,
+            from: None,
         }
     }
 }
@@ -216,44 +235,6 @@ impl Default for OutputSpec {
         OutputSpec {
             compression: default_compression(),
             author: default_author(),
-        }
-    }
-}
-
-/// When a running replica saves its state (docs/output.md, "Checkpoints"): a setting of the run,
-/// not of its results, so it is left out of the spec's hash and of the replica files.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
-#[serde(deny_unknown_fields)]
-pub struct CheckpointSpec {
-    /// Wall-clock seconds between a replica's checkpoints (default 300); 0 turns them off (a signal
-    /// still writes one).
-    #[serde(default = "default_checkpoint_seconds")]
-    #[schemars(extend("minimum" = 0))]
-    pub every_s: f64,
-    /// Also a checkpoint whenever τ passes a multiple of this (absent: by wall time only).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    #[schemars(extend("exclusiveMinimum" = 0))]
-    pub every_tau: Option<f64>,
-    /// Keep each replica's state at `stop.tau_max` (`rNNNNN.final`), from which `edmd extend`
-    /// continues it (default true).
-    #[serde(default = "default_keep_final")]
-    pub keep_final: bool,
-}
-
-fn default_keep_final() -> bool {
-    true
-}
-
-fn default_checkpoint_seconds() -> f64 {
-    300.0
-}
-
-impl Default for CheckpointSpec {
-    fn default() -> Self {
-        CheckpointSpec {
-            every_s: default_checkpoint_seconds(),
-            every_tau: None,
-            keep_final: default_keep_final(),
         }
     }
 }
