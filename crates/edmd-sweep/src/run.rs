@@ -311,7 +311,10 @@ pub fn run_sweep(
     Ok(RunReport {
         in_shard: mine.len(),
         ran: n_todo,
-        collisions: tally.collisions.load(Ordering::Relaxed) - ckpts.resumed_collisions(),
+        collisions: tally
+            .collisions
+            .load(Ordering::Relaxed)
+            .saturating_sub(ckpts.resumed_collisions()),
         wall_s: start.elapsed().as_secs_f64(),
         simulate_s: tally.simulate_ns.load(Ordering::Relaxed) as f64 * 1e-9,
         write_s: tally.write_ns.load(Ordering::Relaxed) as f64 * 1e-9,

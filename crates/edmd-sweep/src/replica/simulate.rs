@@ -41,16 +41,35 @@ pub(super) fn simulate<const D: usize, B: Boundary, R: CollisionRule>(
             None
         })
     });
-    let (mut p, species_of) = init_params::<D>(spec, r)?;
-    if saved.is_some() {
+    let (p, species_of) = init_params::<D>(spec, r)?;
+    let resumed = saved.and_then(|s| {
         // The state comes from the checkpoint: no melt to run first.
-        p.melt_tau = Some(0.0);
-    }
-    let mut sim: Simulation<D, B, R> = p.build::<B, R>(rule)?;
-    if let Some(s) = &saved {
-        sim.load_state(&s.engine)?;
-    }
-    let resume = saved.map(|s| s.runner);
+        let outline = InitParams {
+            melt_tau: Some(0.0),
+            ..p.clone()
+        };
+        let mut sim: Simulation<D, B, R> = match outline.build::<B, R>(rule.clone()) {
+            Ok(sim) => sim,
+            Err(e) => return Some(Err(e)),
+        };
+        match sim.load_state(&s.engine) {
+            Ok(()) => Some(Ok((sim, s.runner))),
+            Err(e) => {
+                // Another build's layout, say: the replica starts over rather than fails.
+                if let Some(c) = ckpt {
+                    c.notice(format!(
+                        "checkpoint of replica {} unusable, the replica starts over: {e}",
+                        r.index
+                    ));
+                }
+                None
+            }
+        }
+    });
+    let (mut sim, resume) = match resumed.transpose()? {
+        Some((sim, runner)) => (sim, Some(runner)),
+        None => (p.build::<B, R>(rule)?, None),
+    };
     drive(spec, r, &p, &species_of, &mut sim, progress, ckpt, resume)
 }
 

@@ -103,3 +103,34 @@ fn sheared_rough_grains_with_tc_resume_bit_for_bit() {
         &[3_000, 17_000],
     );
 }
+
+/// A checkpoint whose engine state cannot be used (cut short here; another build's layout in
+/// practice) is not a failure: the replica starts over, says so, and ends as an uninterrupted run.
+#[test]
+fn an_unusable_engine_state_starts_the_replica_over() {
+    let spec = Spec::from_json(
+        r#"{ "name": "c", "seed": 4, "grid": { "dim": 2, "eps": 0.8, "phi": 0.25, "n": 300 },
+             "stop": { "tau_max": 40 }, "samples": { "every": 5 } }"#,
+    )
+    .unwrap();
+    let r = &spec.replicas()[0];
+    let whole = replica::run(&spec, r, &|_| {});
+    let dir = tempfile::tempdir().unwrap();
+    let flag = AtomicBool::new(false);
+    let ckpts = Checkpoints::new(&spec, dir.path().to_path_buf(), &flag);
+    let stop = |c: u64| flag.store(c > 0, Ordering::Relaxed);
+    assert!(replica::run_with(&spec, r, &stop, Some(&ckpts)).is_none());
+    let path = ckpts.path(r.index);
+    let mut bytes = std::fs::read(&path).unwrap();
+    bytes.truncate(bytes.len() - 64);
+    std::fs::write(&path, bytes).unwrap();
+    let flag = AtomicBool::new(false);
+    let ckpts = Checkpoints::new(&spec, dir.path().to_path_buf(), &flag);
+    let out = replica::run_with(&spec, r, &|_| {}, Some(&ckpts)).expect("runs to the end");
+    let notices = ckpts.notices.lock().unwrap().clone();
+    assert!(
+        notices.iter().any(|m| m.contains("starts over")),
+        "{notices:?}"
+    );
+    same(&whole, &out);
+}
