@@ -22,6 +22,7 @@ mod scene_theory;
 mod shear;
 mod simulate;
 mod stall;
+mod verdict;
 use checkpoint::Checkpoints;
 pub use scene_theory::{
     density_profile_theory, rotational_ratio_theory, shear_theory, species_temperature_theory,
