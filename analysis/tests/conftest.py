@@ -36,9 +36,10 @@ SPEC = {
 }
 
 
-def run_edmd(*args, check=True):
+def run_edmd(*args, check=True, cwd=None):
     return subprocess.run(
-        [str(edmd_binary()), *map(str, args)], capture_output=True, text=True, check=check
+        [str(edmd_binary()), *map(str, args)], capture_output=True, text=True, check=check,
+        cwd=cwd,
     )
 
 

@@ -90,3 +90,28 @@ def test_grid_axes_that_conflict_with_the_file_are_refused(tmp_path, earlier, gr
     r = run_edmd("run", spec_from(tmp_path, earlier, **grid), "-o", tmp_path / "out", check=False)
     assert r.returncode == 1 and expect in r.stderr and "r00000.h5" in r.stderr, r.stderr
     assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("dim,kind", [(2, "h5"), (2, "text"), (3, "h5"), (3, "text")])
+def test_rough_grains_start_with_the_files_spins(tmp_path, dim, kind):
+    """Spins are read from a rough replica's file (its `angular_velocity`) or from the text columns
+    after radius and mass, so the rotational temperature carries over too."""
+    rough = dict(BASE, grid=dict(BASE["grid"], dim=dim, n=300, phi=0.2, beta=0.5),
+                 stop={"tau_max": 10})
+    (tmp_path / "a.json").write_text(json.dumps(rough))
+    run_edmd("run", tmp_path / "a.json", "-o", tmp_path / "a", "-q")
+    source = tmp_path / "a" / "replicas" / "r00000.h5"
+    with h5py.File(source, "r") as f:
+        g = f["particles/gas"]
+        pos, vel, spin = (g[k + "/value"][-1] for k in ("position", "velocity", "angular_velocity"))
+        radius, mass = g["radius"][()], g["mass"][()]
+    if kind == "text":
+        source = tmp_path / "c.txt"
+        np.savetxt(source, np.column_stack([pos, vel, radius, mass, spin]), fmt="%.17g")
+    s = dict(rough, name="b", init={"from": {"file": str(source)}})
+    (tmp_path / "b.json").write_text(json.dumps(s))
+    run_edmd("run", tmp_path / "b.json", "-o", tmp_path / "b", "-q")
+    with h5py.File(tmp_path / "b" / "replicas" / "r00000.h5", "r") as f:
+        start = f["particles/gas/angular_velocity/value"][0]
+    assert np.abs(spin).max() > 0
+    assert np.allclose(start, spin, rtol=1e-12, atol=0)

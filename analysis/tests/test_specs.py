@@ -28,7 +28,7 @@ def test_schema_and_binary_reject_the_same_bad_specs(path):
     """The shared corpus (tests/specs/README.md): the binary refuses every case with the expected
     message; the schema refuses every case but the cross-field ones, which it must accept."""
     expect = path.with_suffix(".expect").read_text().strip()
-    r = run_edmd("validate-spec", path, check=False)
+    r = run_edmd("validate-spec", path, check=False, cwd=path.parent)
     assert r.returncode == 1 and r.stderr.startswith("error: invalid sweep spec"), r.stderr
     assert expect in r.stderr, (expect, r.stderr)
     spec = json.loads(path.read_text())

@@ -1,5 +1,5 @@
-//! A configuration to start from (`init.from`): positions, velocities and, where given, radii and
-//! masses, read from an edmd replica file (or any H5MD file of the same layout) or a plain-text file.
+//! A configuration to start from (`init.from`): positions, velocities and, where given, radii,
+//! masses and spins, read from an edmd replica file (or any H5MD file of the same layout) or a plain-text file.
 
 use std::path::Path;
 
@@ -20,6 +20,17 @@ pub struct Configuration {
     pub mass: Option<Vec<f64>>,
     /// The box's sides, if the file gives them.
     pub box_len: Option<Vec<f64>>,
+    /// Angular velocities, N × 1 (2D: z) or N × 3, if the file gives them.
+    pub spin: Option<Vec<f64>>,
+}
+
+/// Components of an angular velocity: z alone in 2D, all three in 3D.
+pub fn spin_width(dim: usize) -> usize {
+    if dim == 2 {
+        1
+    } else {
+        3
+    }
 }
 
 impl Configuration {
@@ -48,6 +59,23 @@ pub fn load(from: &FromSpec, dim: usize) -> Result<Configuration, String> {
     };
     finite("position", &c.position)?;
     finite("velocity", &c.velocity)?;
+    if let Some(w) = &c.spin {
+        let width = spin_width(dim);
+        if let Some(k) = w.iter().position(|x| !x.is_finite()) {
+            return Err(format!(
+                "particle {}: angular velocity = {}",
+                k / width,
+                w[k]
+            ));
+        }
+        if w.len() != c.n() * width {
+            return Err(format!(
+                "{} angular velocities for {} particles",
+                w.len() / width,
+                c.n()
+            ));
+        }
+    }
     Ok(c)
 }
 
@@ -71,8 +99,10 @@ fn load_h5(path: &Path, tau: Option<f64>) -> Result<Configuration, String> {
                 .unwrap_or(k - 1),
         };
         let frame_of = |name: &str| -> hdf5::Result<Vec<f64>> {
-            let all: Vec<f64> = gas.dataset(name)?.read_raw()?;
-            Ok(all[frame * n * dim..(frame + 1) * n * dim].to_vec())
+            let data = gas.dataset(name)?;
+            let width = data.shape().last().copied().unwrap_or(dim);
+            let all: Vec<f64> = data.read_raw()?;
+            Ok(all[frame * n * width..(frame + 1) * n * width].to_vec())
         };
         let per_particle = |name: &str| gas.dataset(name).and_then(|d| d.read_raw::<f64>()).ok();
         let box_len = gas
@@ -86,6 +116,10 @@ fn load_h5(path: &Path, tau: Option<f64>) -> Result<Configuration, String> {
             radius: per_particle("radius"),
             mass: per_particle("mass"),
             box_len,
+            spin: gas
+                .link_exists("angular_velocity")
+                .then(|| frame_of("angular_velocity/value"))
+                .transpose()?,
         })
     };
     if !path.exists() {
@@ -94,7 +128,8 @@ fn load_h5(path: &Path, tau: Option<f64>) -> Result<Configuration, String> {
     read().map_err(|e| e.to_string())
 }
 
-/// Lines of D positions, D velocities, then optionally a radius and a mass; `#` starts a comment.
+/// Lines of D positions, D velocities, then optionally a radius and a mass, then optionally the
+/// angular velocity (z in 2D, three components in 3D); `#` starts a comment.
 fn load_text(path: &Path, dim: usize) -> Result<Configuration, String> {
     let text = std::fs::read_to_string(path).map_err(|e| e.to_string())?;
     let mut rows: Vec<Vec<f64>> = Vec::new();
@@ -113,12 +148,14 @@ fn load_text(path: &Path, dim: usize) -> Result<Configuration, String> {
                 rows[0].len()
             ));
         }
-        if !(2 * dim..=2 * dim + 2).contains(&row.len()) {
+        let with_spin = 2 * dim + 2 + spin_width(dim);
+        if !(2 * dim..=2 * dim + 2).contains(&row.len()) && row.len() != with_spin {
             return Err(format!(
-                "line {}: {} columns; {dim}D needs {} (positions, velocities), then optionally a radius and a mass",
+                "line {}: {} columns; {dim}D needs {} (positions, velocities), then optionally a radius and a mass, then optionally {} of angular velocity",
                 k + 1,
                 row.len(),
-                2 * dim
+                2 * dim,
+                spin_width(dim)
             ));
         }
         rows.push(row);
@@ -132,5 +169,10 @@ fn load_text(path: &Path, dim: usize) -> Result<Configuration, String> {
         radius: column(2 * dim),
         mass: column(2 * dim + 1),
         box_len: None,
+        spin: (cols > 2 * dim + 2).then(|| {
+            rows.iter()
+                .flat_map(|r| r[2 * dim + 2..].to_vec())
+                .collect()
+        }),
     })
 }

@@ -190,7 +190,21 @@ fn ready_specs_validate() {
 /// One bad-input case: the command fails with exit code 1 and one clear error line containing
 /// `expect`, without panicking, and leaves no output behind.
 fn assert_rejected(args: &[&str], expect: &str, out: &Path) {
-    let o = run(args);
+    assert_output_rejected(run(args), args, expect, out);
+}
+
+/// [`assert_rejected`] of a command run in `dir` (the corpus names its configuration files
+/// relative to itself).
+fn assert_rejected_in(dir: &Path, args: &[&str], expect: &str, out: &Path) {
+    let o = edmd()
+        .current_dir(dir)
+        .args(args)
+        .output()
+        .expect("edmd starts");
+    assert_output_rejected(o, args, expect, out);
+}
+
+fn assert_output_rejected(o: std::process::Output, args: &[&str], expect: &str, out: &Path) {
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(1), "{args:?}: {err}");
     assert!(!err.contains("panicked"), "{args:?} panicked: {err}");
@@ -225,8 +239,9 @@ fn bad_specs_are_rejected_with_one_clear_line() {
         let expect = std::fs::read_to_string(p.with_extension("expect")).unwrap();
         let expect = expect.trim_end();
         let spec = p.to_str().unwrap();
-        assert_rejected(&["run", spec, "-o", out.to_str().unwrap()], expect, &out);
-        assert_rejected(&["validate-spec", spec], expect, &out);
+        let o = out.to_str().unwrap();
+        assert_rejected_in(&corpus, &["run", spec, "-o", o], expect, &out);
+        assert_rejected_in(&corpus, &["validate-spec", spec], expect, &out);
     }
     let good = small_spec("bad", &[0.9], 64, 1, 1.0);
     let p = write(tmp.path(), "good.json", &good);

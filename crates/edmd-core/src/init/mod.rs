@@ -74,6 +74,9 @@ pub struct InitParams<const D: usize> {
     /// A configuration to start from (positions, velocities, radii, masses) instead of placing
     /// particles and drawing velocities; no melt unless `melt_tau` asks for one.
     pub given: Option<Vec<ParticleInit<D>>>,
+    /// Angular velocities of the given configuration (original order, physical units, z only in
+    /// 2D), set once the rule is in place; ignored by smooth rules.
+    pub given_spins: Option<Vec<[f64; 3]>>,
 }
 
 impl<const D: usize> InitParams<D> {
@@ -109,6 +112,7 @@ impl<const D: usize> InitParams<D> {
             melt_tau: None,
             sim: None,
             given: None,
+            given_spins: None,
         }
     }
 
@@ -374,6 +378,9 @@ impl<const D: usize> InitParams<D> {
         } else {
             Simulation::<D, B, R, C>::new(self.box_len, particles, rule, params)?
         };
+        if let Some(spins) = &self.given_spins {
+            sim.set_spins(spins)?;
+        }
         sim.reset_counters();
         Ok(sim)
     }

@@ -4,7 +4,7 @@
 use super::{Meta, Simulation};
 use crate::calendar::Calendar;
 use crate::sim::neighbours::{CellGrid, NONE};
-use crate::{Boundary, CollisionRule, Counters, Particle, Vector};
+use crate::{Boundary, CollisionRule, Counters, EdmdError, Particle, Vector};
 
 impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B, R, C> {
     /// True if neighbour lists replace cell crossings ([`SimParams::neighbour_skin`] > 0, no gravity,
@@ -158,7 +158,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     }
 
     /// Sets the angular velocity of particle `id` (original index; physical units; only z counts in
-    /// 2D). Ignored by smooth rules. Events are predicted again.
+    /// 2D). Ignored by smooth rules. Contact times do not depend on spins, so no event changes.
     pub fn set_spin(&mut self, id: usize, spin: [f64; 3]) {
         if let Some(s) = self.meta[..self.len()]
             .iter()
@@ -170,6 +170,24 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                 [spin[0] * f, spin[1] * f, spin[2] * f],
             );
         }
+    }
+
+    /// Sets every angular velocity at once (original order; physical units; only z counts in 2D).
+    /// Ignored by smooth rules.
+    pub fn set_spins(&mut self, spins: &[[f64; 3]]) -> Result<(), EdmdError> {
+        if spins.len() != self.len() {
+            return Err(EdmdError::invalid(
+                "spins",
+                spins.len(),
+                format!("{} particles need as many angular velocities", self.len()),
+            ));
+        }
+        let f = self.scale;
+        for s in 0..self.len() {
+            let w = spins[self.meta[s].id as usize];
+            R::set_spin(&mut self.rule_state[s], [w[0] * f, w[1] * f, w[2] * f]);
+        }
+        Ok(())
     }
 
     /// Rotational kinetic energy Σ I ω²/2 (physical units; zero for smooth rules).

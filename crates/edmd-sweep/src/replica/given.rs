@@ -3,16 +3,17 @@
 
 use edmd_core::{EdmdError, InitParams, ParticleInit, Vector};
 
-use crate::configuration::load;
+use crate::configuration::{load, spin_width};
 use crate::spec::{FromSpec, Replica};
 
-/// The particles replica `r` starts from: positions and velocities from the file, radii and
-/// masses from it where it has them, else the replica's own (`p`).
-pub(super) fn particles<const D: usize>(
+/// Sets replica `r`'s start (`p.given`, `p.given_spins`) to the file's particles: positions and
+/// velocities from the file, radii and masses from it where it has them, else the replica's own;
+/// its spins where it has them and the grains are rough (smooth grains carry none).
+pub(super) fn start_from<const D: usize>(
     from: &FromSpec,
     r: &Replica,
-    p: &InitParams<D>,
-) -> Result<Vec<ParticleInit<D>>, EdmdError> {
+    p: &mut InitParams<D>,
+) -> Result<(), EdmdError> {
     let refuse = |why: String| EdmdError::invalid("init.from", &from.file, why);
     let c = load(from, D).map_err(refuse)?;
     if c.n() != r.n {
@@ -35,7 +36,19 @@ pub(super) fn particles<const D: usize>(
         }
     }
     let vector = |v: &[f64], i: usize| Vector::<D>::from_fn(|a, _| v[i * D + a]);
-    Ok((0..r.n)
+    let width = spin_width(D);
+    p.given_spins = c.spin.as_ref().filter(|_| r.rough()).map(|w| {
+        w.chunks(width)
+            .map(|x| {
+                if D == 2 {
+                    [0.0, 0.0, x[0]]
+                } else {
+                    [x[0], x[1], x[2]]
+                }
+            })
+            .collect()
+    });
+    let particles = (0..r.n)
         .map(|i| {
             let radius = c
                 .radius
@@ -56,5 +69,7 @@ pub(super) fn particles<const D: usize>(
                 mass,
             }
         })
-        .collect())
+        .collect();
+    p.given = Some(particles);
+    Ok(())
 }

@@ -110,7 +110,7 @@ pub(super) fn init_params<const D: usize>(
         });
     }
     if let Some(from) = &spec.init.from {
-        p.given = Some(super::given::particles::<D>(from, r, &p)?);
+        super::given::start_from::<D>(from, r, &mut p)?;
     }
     Ok((p, species_of))
 }
