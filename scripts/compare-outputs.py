@@ -2,8 +2,9 @@
 """Compares two sweep outputs, both ways: the replica files (every dataset byte for byte, every
 attribute, the same objects on both sides), the index (sweep.h5 likewise, its external links by
 target), summary.csv, summary.json, phase.json and spec.json. What describes the run rather than its
-result is left out: wall_s (the replica's wall-clock time, an attribute and an index column) and
-git_commit (the commit the binary was built from). Exits 1 at the first difference, naming it.
+result is left out: wall_s (the replica's wall-clock time, an attribute and an index column),
+resumes (how often it went on from a checkpoint or an extension, likewise) and git_commit (the
+commit the binary was built from). Exits 1 at the first difference, naming it.
 `--ignore-attr NAME` (repeatable) skips further attributes and columns, e.g. `spec` and `spec_hash`
 when the canonical spec gained fields with defaults between the two builds.
 
@@ -20,7 +21,7 @@ import sys
 import h5py
 import numpy as np
 
-RUN_ATTRIBUTES = {"wall_s", "git_commit"}
+RUN_ATTRIBUTES = {"wall_s", "git_commit", "resumes"}
 
 
 class Differ(Exception):

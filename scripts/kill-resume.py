@@ -23,6 +23,8 @@ import tempfile
 import time
 from pathlib import Path
 
+import h5py
+
 REPO = Path(__file__).resolve().parents[1]
 EXIT_INTERRUPTED = 75
 
@@ -95,6 +97,13 @@ def trial(edmd, spec, ref, out, rng, kills, sig, wall, compare):
     if left:
         raise SystemExit(f"{out}: left behind {left}")
     same = compare.main(str(ref), str(out)) == 0
+    # The index records the resumes along the history that made each file: some once a run went on
+    # from a checkpoint (a SIGKILLed run announces nothing, so the counts need not agree), none
+    # without a stop.
+    with h5py.File(out / "sweep.h5", "r") as f:
+        recorded = int(f["replicas/resumes"][()].sum())
+    if (went_on > 0 and recorded == 0) or (stops == 0 and recorded > 0):
+        raise SystemExit(f"{out}: the index records {recorded} resumes after {stops} stops, {went_on} announced")
     return stops, went_on, same
 
 

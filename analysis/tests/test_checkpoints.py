@@ -87,3 +87,7 @@ def test_a_signalled_refinement_resumes_bit_identical(tmp_path, capsys):
     assert stopped > 0, "the refinement ended before any signal"
     run_edmd("refine", tmp_path / "b", "--rounds", "2", "-q")
     assert kill_resume.load_compare().main(str(tmp_path / "a"), str(tmp_path / "b")) == 0, capsys.readouterr().out
+    # What differs is recorded as a fact of the run: which replicas went on from a checkpoint.
+    import edmd_analysis
+    assert not edmd_analysis.read_index(tmp_path / "a")["resumes"].any()
+    assert edmd_analysis.read_index(tmp_path / "b")["resumes"].any()

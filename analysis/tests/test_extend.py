@@ -8,6 +8,8 @@ import json
 
 import pytest
 from conftest import REPO, run_edmd
+from edmd_analysis import read_index
+from edmd_analysis.report import _continued
 
 spec = importlib.util.spec_from_file_location("compare_outputs", REPO / "scripts" / "compare-outputs.py")
 compare_outputs = importlib.util.module_from_spec(spec)
@@ -43,6 +45,12 @@ def test_extend_equals_a_direct_run(tmp_path, capsys, base, short, long):
     assert compare_outputs.main(str(tmp_path / "direct"), str(tmp_path / "extended")) == 0, capsys.readouterr().out
     left = [p.name for p in (tmp_path / "extended" / "states").iterdir() if p.suffix != ".final"]
     assert not left
+    # The index and the report say which replicas went on from their final state.
+    direct, extended = read_index(tmp_path / "direct"), read_index(tmp_path / "extended")
+    assert not direct["resumes"].any() and _continued(direct) == ""
+    went_on = [int(i) for i, k in zip(extended["index"], extended["resumes"]) if k]
+    assert went_on and set(extended["resumes"]) <= {0, 1}
+    assert all(f"r{i:05d} (1×)" in _continued(extended) for i in went_on)
 
 
 def test_extend_refuses_a_shorter_tau_max_and_an_unfinished_sweep(tmp_path):

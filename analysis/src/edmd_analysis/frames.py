@@ -22,6 +22,7 @@ INDEX_COLUMNS = (
     "shear_rate", "wall_eps", "floor_temperature", "aspect", "phi", "box_side", "n", "seed_index", "seed", "remedy",
     "tau", "time", "ln_temperature_ratio", "collisions", "collapse_tau", "class", "shear_onset_tau",
     "cluster_onset_tau", "f_flow", "s_perp", "delta_rho2", "wall_s",
+    "resumes",
 )
 CATEGORIES = ("status", "class", "boundary", "remedy")
 

@@ -52,6 +52,23 @@ def _first_seed_per_point(index: io.Index, max_points: int):
     return chosen[:max_points]
 
 
+def _resumes(index: io.Index, i: int) -> int:
+    """Times replica row `i` went on from a saved state (0 in outputs older than checkpoints)."""
+    return int(index["resumes"][i]) if "resumes" in index.columns else 0
+
+
+def _continued(index: io.Index) -> str:
+    """A paragraph naming the replicas that went on from a checkpoint or an extension, if any."""
+    runs = [(int(index["index"][i]), _resumes(index, i)) for i in range(len(index))
+            if _resumes(index, i)]
+    if not runs:
+        return ""
+    names = ", ".join(f"r{r:05d} ({k}×)" for r, k in runs)
+    return (f"<p class=\"continued\">Continued replicas ({len(runs)} of {len(index)}): went on from a "
+            f"checkpoint after a stop, or from their final state by <code>edmd extend</code>, "
+            f"bit-identical to an uninterrupted run: {html.escape(names)}.</p>")
+
+
 def _title(index: io.Index, i: int) -> str:
     extra = ""
     col = index.columns
@@ -65,6 +82,8 @@ def _title(index: io.Index, i: int) -> str:
         extra += f" g={index['gravity'][i]:g}"
     if "floor_temperature" in col and index["floor_temperature"][i] > 0:
         extra += f" floor_T={index['floor_temperature'][i]:g}"
+    if _resumes(index, i):
+        extra += " continued"
     # Two lines: the grid point, then the scene and the class (titles of narrow panels stay short).
     return (f"eps={index['eps'][i]:g} N={index['n'][i]} phi={index['phi'][i]:.3g}\n"
             f"{extra.strip()} {index['boundary'][i]} ({index['class'][i]})").replace("\n ", "\n")
@@ -440,6 +459,7 @@ against Haff's law, the box over the theory's unstable lengths, the class fracti
 <table>
 {table}</table>
 </div>
+{_continued(index)}
 <h2>Figures</h2>
 {figures}
 <h2>Spec</h2>

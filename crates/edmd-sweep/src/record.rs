@@ -225,6 +225,9 @@ record_fields! {
     delta_rho2: f64,
     /// Wall-clock seconds of the replica.
     wall_s: f64,
+    /// Times the replica went on from a saved state: a checkpoint after a stop, or its final state
+    /// by `edmd extend` (0: one uninterrupted run).
+    resumes: u64,
 }
 
 impl Record {
@@ -271,6 +274,7 @@ impl Record {
             s_perp: f64::NAN,
             delta_rho2: f64::NAN,
             wall_s: f64::NAN,
+            resumes: 0,
         }
     }
 

@@ -91,6 +91,7 @@ fn results(p: &Group, out: &Outcome) -> hdf5::Result<()> {
     attr_f64(p, "collapse_time", ct)?;
     attr_f64(p, "collapse_tau", ctau)?;
     attr_f64(p, "wall_s", out.wall_s)?;
+    attr_u64(p, "resumes", out.resumes)?;
     let os = &out.series.order;
     let lastv = |v: &[f64]| v.last().copied().unwrap_or(f64::NAN);
     match &out.classification {

@@ -134,6 +134,12 @@ pub fn read_record(path: &Path, spec_hash: &str) -> Result<Record, SweepError> {
             collisions: p.attr("collisions")?.read_scalar::<u64>()?,
             collapse_tau: read_f64(&p, "collapse_tau")?,
             wall_s: read_f64(&p, "wall_s")?,
+            // Files written before checkpoints: one run.
+            resumes: if p.attr("resumes").is_ok() {
+                p.attr("resumes")?.read_scalar::<u64>()?
+            } else {
+                0
+            },
             class: read_str(&p, "class")?,
             shear_onset_tau: read_f64(&p, "shear_onset_tau")?,
             cluster_onset_tau: read_f64(&p, "cluster_onset_tau")?,

@@ -32,7 +32,7 @@ use crate::spec::Spec;
 
 const MAGIC: &[u8; 8] = b"EDMDCKPT";
 /// The version of the runner's part of the layout (the engine's carries its own).
-pub const FORMAT: u32 = 1;
+pub const FORMAT: u32 = 2;
 
 /// What a checkpoint says about itself, readable without the state.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -73,6 +73,7 @@ pub(crate) struct RunnerState {
     pub meter: Option<VirialMeter>,
     pub start: Counters,
     pub wall_s: f64,
+    pub resumes: u64,
 }
 
 /// [`RunnerState`] as it is written: borrowed from the running replica (no copy of its series and
@@ -90,6 +91,7 @@ pub(crate) struct RunnerSaving<'a> {
     pub meter: Option<VirialMeter>,
     pub start: Counters,
     pub wall_s: f64,
+    pub resumes: u64,
 }
 
 /// A replica's state as a checkpoint holds it.

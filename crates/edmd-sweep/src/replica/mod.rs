@@ -168,6 +168,8 @@ pub struct Outcome {
     pub collapse: Option<(f64, f64)>,
     /// Wall-clock seconds spent simulating.
     pub wall_s: f64,
+    /// Times the replica went on from a saved state (a checkpoint, or `edmd extend`).
+    pub resumes: u64,
     /// The classifier's verdict (None unless the spec has a `classify` section).
     pub classification: Option<Classification>,
     /// Particles per cell of the order-parameter grid (NaN without classification).
@@ -190,6 +192,7 @@ impl Outcome {
             collisions: 0,
             collapse: None,
             wall_s: 0.0,
+            resumes: 0,
             classification: None,
             per_cell: f64::NAN,
         }

@@ -174,6 +174,7 @@ fn drive<const D: usize>(
         collisions: c,
         collapse,
         wall_s: run.wall_before,
+        resumes: run.resumes,
         classification,
         per_cell: theory.per_cell,
     }))
@@ -205,6 +206,8 @@ struct Run<'a> {
     interrupted: bool,
     /// Wall-clock seconds of the runs before this one (from the checkpoint).
     wall_before: f64,
+    /// Times this replica went on from a saved state, this run included.
+    resumes: u64,
     started: std::time::Instant,
 }
 
@@ -233,6 +236,7 @@ impl<'a> Run<'a> {
             timer: None,
             interrupted: false,
             wall_before: 0.0,
+            resumes: 0,
             started: std::time::Instant::now(),
         }
     }
@@ -246,6 +250,7 @@ impl<'a> Run<'a> {
         self.sampled_at = s.sampled_at;
         self.window = s.window;
         self.wall_before = s.wall_s;
+        self.resumes = s.resumes + 1;
         sampler.resume(s.t0, s.meter, s.start);
     }
 
@@ -275,6 +280,7 @@ impl<'a> Run<'a> {
             meter,
             start,
             wall_s,
+            resumes: self.resumes,
         };
         Encoded::new(&runner, wall_s, sim.save_state())
     }

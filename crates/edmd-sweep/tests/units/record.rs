@@ -46,6 +46,7 @@ fn csv_header_is_the_field_list_and_fields_are_quoted() {
         s_perp: 0.0,
         delta_rho2: 0.0,
         wall_s: 0.5,
+        resumes: 0,
     };
     let csv = Record::to_csv(&[r]);
     let mut lines = csv.lines();
