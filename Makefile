@@ -202,6 +202,7 @@ endif
 stress: release-bin venv
 	$(CARGO) test -p edmd-core --test engine -- --ignored --nocapture --test-threads 1 stress:: fuzz:: deep_cooling::large
 	$(VENV)/bin/python scripts/kill-resume.py --edmd target/release/edmd --trials 10 --signals 3
+	EDMD_SLURM_TIME_LIMIT=1 PY=$(CURDIR)/$(VENV)/bin/python EDMD=$(CURDIR)/target/release/edmd bash tests/slurm/test-slurm.sh
 
 disk-full: release-bin venv
 	$(VENV)/bin/python scripts/disk-full.py --edmd target/release/edmd

@@ -12,7 +12,9 @@
 #      per round, `edmd refine --plan` / `--shard`) and checks that it equals an unsharded `edmd refine`;
 #   4. submits it once more, sends one running task's batch shell SIGUSR1 (what `--signal` sends before
 #      a time limit): edmd checkpoints and exits 75, the task requeues itself, its rerun goes on from
-#      the checkpoints, and the output equals the local run.
+#      the checkpoints, and the output equals the local run;
+#   5. with EDMD_SLURM_TIME_LIMIT=1 (make stress), runs one replica of about 150 s under a real 1-minute
+#      time limit: Slurm signals it, it requeues until done, and equals the local run.
 # Daemons are started and stopped by PID. Skipped (exit 0, with a message) only where the packages are
 # missing and cannot be installed.
 set -euo pipefail
@@ -258,4 +260,37 @@ grep -q "going on from their checkpoints" "$log" \
     || { echo "test-slurm: error: the requeued task $victim did not go on from its checkpoints ($log):" >&2; cat "$log" >&2; exit 1; }
 ls "$work/out/q/states" | grep -q '\.ckpt' && { echo "test-slurm: error: checkpoints left behind" >&2; exit 1; }
 say "a task signalled before its time limit checkpointed, requeued itself and finished from its checkpoints: equal to the local run, in $((SECONDS - t0)) s"
+
+# --- 5. (EDMD_SLURM_TIME_LIMIT=1, make stress) a real time limit shorter than the replica -------------
+# One replica of about 150 s on one core under a 1-minute limit with `--signal=B:USR1@30`: Slurm itself
+# signals each run 30-60 s in, and the array task must requeue until the replica is done.
+if [ "${EDMD_SLURM_TIME_LIMIT:-0}" = 1 ]; then
+    t0=$SECONDS
+    long=$work/long.json
+    make_long() {  # the spec's first grid point as one replica to tau_max $1
+        "$PY" -c 'import json, sys; s = json.load(open(sys.argv[1])); s["name"] = "slurm-time-limit"
+s["grid"].update(eps=0.9, seeds=1); s["stop"]["tau_max"] = float(sys.argv[3])
+json.dump(s, open(sys.argv[2], "w"))' "$spec" "$long" "$1"
+    }
+    make_long 400
+    t1=$(date +%s.%N); "$EDMD" run "$long" -o "$work/calibrate" --quiet >/dev/null; t2=$(date +%s.%N)
+    tau=$("$PY" -c "print(round(400 * 150 / max($t2 - $t1, 0.1)))")
+    make_long "$tau"
+    "$EDMD" run "$long" -o "$work/long-local" --quiet >/dev/null
+    EDMD="$EDMD" "$root/sweeps/slurm/submit.sh" "$long" "$work/out/t" 1 --cpus-per-task=1 \
+        --time=1 --signal=B:USR1@30 --output="$work/out/t/slurm-%A_%a.log" --chdir="$work" >/dev/null
+    # A requeued task is held back (BeginTime); let it start at once, until the queue is empty.
+    for _ in $(seq 2400); do
+        jobs=$(squeue -h -o "%i %T" 2>/dev/null || true)
+        [ -z "$jobs" ] && break
+        echo "$jobs" | awk '$2 == "PENDING" {print $1}' | while read -r j; do
+            scontrol update JobId="$j" StartTime=now 2>/dev/null || true
+        done
+        sleep 0.25
+    done
+    requeues=$(cat "$work"/out/t/slurm-*.log | grep -c "requeueing task" || true)
+    [ "$requeues" -ge 1 ] || { echo "test-slurm: error: the time-limited task never requeued:" >&2; cat "$work"/out/t/slurm-*.log >&2; exit 1; }
+    "$PY" "$root/scripts/compare-outputs.py" "$work/long-local" "$work/out/t"
+    say "a replica of tau $tau under a 1-minute time limit finished after $requeues requeues, equal to the local run, in $((SECONDS - t0)) s"
+fi
 say "PASSED in $((SECONDS - start_time)) s"

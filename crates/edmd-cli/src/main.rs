@@ -19,6 +19,7 @@ use edmd_sweep::summary::{phase_table, render, Format};
 use edmd_sweep::{merge, SweepError, QUICK_SPEC};
 
 mod bar;
+mod bench_replica;
 mod extend;
 mod interrupt;
 mod refine;
@@ -106,6 +107,9 @@ enum Command {
     /// Continue a finished sweep to a longer stop.tau_max: bit-identical to a sweep run that long from
     /// the start (docs/output.md, "Extending a sweep").
     Extend(extend::ExtendArgs),
+    /// Measure one replica's runner (sampling, classification, snapshots; no files) against the
+    /// engine alone on the same trajectory, one thread, alternating rounds (docs/benchmarks.md).
+    BenchReplica(bench_replica::BenchReplicaArgs),
     /// Show how many replicas of a sweep output are finished, failed, partial or pending.
     Status {
         /// Sweep output directory.
@@ -226,6 +230,7 @@ fn execute(command: Command) -> anyhow::Result<ExitCode> {
         } => run_command(spec, out, threads, max_memory, shard, force, quiet, format),
         Command::Refine(args) => refine::command(args),
         Command::Extend(args) => extend::command(args),
+        Command::BenchReplica(args) => bench_replica::command(args),
         Command::Status { out } => status::status_command(out),
         Command::Merge { inputs, out } => merge_command(inputs, out),
         Command::Summarize { out, format } => summarize_command(out, format),
@@ -424,6 +429,8 @@ fn say_ran(spec: &Spec, report: &RunReport, shard: Option<Shard>, root: &Path) {
             100.0 * report.write_s / (report.simulate_s + report.write_s).max(1e-12),
             match k {
                 0 => String::new(),
+                // Interrupted replicas' seconds are not in `simulate_s`: no share to give.
+                k if report.interrupted > 0 => format!("; {k} checkpoints, {ckpt_s:.3} s"),
                 k => format!(
                     "; {k} checkpoints, {ckpt_s:.3} s ({:.2} % of simulating)",
                     100.0 * ckpt_s / report.simulate_s.max(1e-12)

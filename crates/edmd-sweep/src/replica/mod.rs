@@ -13,6 +13,7 @@ use crate::classify::{critical_box_sides, Class, Classification, OrderSeries, Th
 pub use crate::record::Status;
 use crate::spec::{viscoelastic, BoundaryKind, Remedy, Replica, RuleSpec, Spec};
 
+pub mod bare;
 pub mod checkpoint;
 pub mod extend;
 mod given;
