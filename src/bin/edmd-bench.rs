@@ -58,6 +58,8 @@ struct Case {
     portable: bool,
     /// Free cooling: each repeat a new gas, untimed to this τ, then timed without rescaling.
     cool_from: Option<f64>,
+    /// Neighbour lists of this skin instead of the engine's choice (0: cells).
+    skin: Option<f64>,
 }
 
 struct Outcome {
@@ -155,10 +157,12 @@ fn build<const D: usize, B: Boundary>(
     let mut p = InitParams::<D>::with_packing(case.n, case.phi).map_err(|e| e.to_string())?;
     p.seed = 1;
     p.melt_tau = Some(melt_tau);
-    if case.shear_rate > 0.0 {
+    if case.shear_rate > 0.0 || case.skin.is_some() {
+        let own = p.default_sim_params();
         p.sim = Some(edmd::SimParams {
             shear_rate: case.shear_rate,
-            ..p.default_sim_params()
+            neighbour_skin: case.skin.unwrap_or(own.neighbour_skin),
+            ..own
         });
     }
     let rule = ConstantRestitution::new(case.eps).map_err(|e| e.to_string())?;
@@ -297,6 +301,10 @@ struct Args {
     /// (the same events; to measure what the four-wide searches save).
     #[arg(long)]
     portable_scan: bool,
+    /// Neighbour lists with this skin (in diameters) instead of the engine's choice by density; 0
+    /// forces cell crossings (to measure one search against the other on the same gas).
+    #[arg(long)]
+    skin: Option<f64>,
     /// Print one JSON object instead of the text lines.
     #[arg(long)]
     json: bool,
@@ -392,6 +400,7 @@ fn run_matrix(
                     look_ahead,
                     portable: args.portable_scan,
                     cool_from: None,
+                    skin: args.skin,
                 };
                 let o = run_case(&case, repeats, per, melt_tau)?;
                 println!(
@@ -434,6 +443,7 @@ fn real_main(args: Args) -> Result<(), String> {
         look_ahead,
         portable: args.portable_scan,
         cool_from: args.cool_from,
+        skin: args.skin,
     };
     let o = run_case(&case, repeats, per, melt_tau)?;
     if args.json {

@@ -23,6 +23,10 @@ pub struct BenchReplicaArgs {
     /// Rounds, each the runner then the engine alone (the ratio is the median of the rounds').
     #[arg(long, default_value_t = 3)]
     pub rounds: usize,
+    /// Run one side only, once (for instruction counts under cachegrind): `runner`, or `engine` to
+    /// the replica's stop.tau_max.
+    #[arg(long, value_parser = ["runner", "engine"])]
+    pub only: Option<String>,
     /// One JSON object instead of text.
     #[arg(long)]
     pub json: bool,
@@ -44,6 +48,19 @@ pub fn command(a: BenchReplicaArgs) -> anyhow::Result<ExitCode> {
     }
     if !a.json {
         eprintln!("{r}, to tau {}", spec.stop.tau_max);
+    }
+    match a.only.as_deref() {
+        Some("runner") => {
+            let o = replica::run(&spec, r, &|_| {});
+            eprintln!("runner: {} collisions in {:.3} s", o.collisions, o.wall_s);
+            return Ok(ExitCode::SUCCESS);
+        }
+        Some(_) => {
+            let (c, s) = engine_only(&spec, r, (spec.stop.tau_max * r.n as f64) as u64)?;
+            eprintln!("engine alone: {c} collisions in {s:.3} s");
+            return Ok(ExitCode::SUCCESS);
+        }
+        None => {}
     }
     let mut rows = Vec::new();
     for round in 0..a.rounds {
