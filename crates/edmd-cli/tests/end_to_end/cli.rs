@@ -365,3 +365,28 @@ fn unreachable_starts_are_refused_and_collapsed_replicas_recorded() {
         "{text}"
     );
 }
+
+/// `edmd bench-replica` runs a replica's runner and its engine alone and prints their ratio; an
+/// index outside the sweep is refused in one line.
+#[test]
+fn bench_replica_compares_the_runner_with_the_engine() {
+    let tmp = tempfile::tempdir().unwrap();
+    let p = write(tmp.path(), "s.json", &small_spec("b", &[0.9], 128, 1, 20.0));
+    let p = p.to_str().unwrap();
+    let o = run(&["bench-replica", p, "--rounds", "1", "--json"]);
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let ratio: f64 = out
+        .split("\"median_ratio\": ")
+        .nth(1)
+        .and_then(|x| x.trim().trim_end_matches('}').parse().ok())
+        .unwrap_or_else(|| panic!("no ratio in {out}"));
+    assert!(ratio > 0.1 && ratio < 10.0, "{out}");
+    let bad = run(&["bench-replica", p, "--replica", "5"]);
+    let err = String::from_utf8_lossy(&bad.stderr);
+    assert_eq!(bad.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("--replica 5: the sweep has 1 replicas"),
+        "{err}"
+    );
+}
