@@ -37,7 +37,7 @@ from . import files, io, movie, plots  # noqa: E402
 
 # The index columns that tell grid points apart (the seed aside).
 POINT_COLUMNS = ("dim", "boundary", "remedy", "n", "phi", "box_side", "eps", "beta", "species",
-                 "gravity", "shear_rate", "wall_eps", "floor_temperature", "aspect")
+                 "gravity", "shear_rate", "wall_eps", "floor_temperature", "white_noise", "aspect")
 
 
 def _first_seed_per_point(index: io.Index, max_points: int):
@@ -82,6 +82,8 @@ def _title(index: io.Index, i: int) -> str:
         extra += f" g={index['gravity'][i]:g}"
     if "floor_temperature" in col and index["floor_temperature"][i] > 0:
         extra += f" floor_T={index['floor_temperature'][i]:g}"
+    if "white_noise" in col and index["white_noise"][i] > 0:
+        extra += f" noise={index['white_noise'][i]:g}"
     if _resumes(index, i):
         extra += " continued"
     # Two lines: the grid point, then the scene and the class (titles of narrow panels stay short).

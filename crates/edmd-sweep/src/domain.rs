@@ -178,6 +178,14 @@ pub const FLOOR_TEMPERATURE: Domain = Domain::new(
     false,
     "floor temperature must lie in (0, 1e12]",
 );
+/// The white-noise thermostat's strength ξ₀².
+pub const WHITE_NOISE: Domain = Domain::new(
+    0.0,
+    true,
+    1e12,
+    false,
+    "white-noise strength must lie in (0, 1e12]",
+);
 /// Relative box sides.
 pub const ASPECT: Domain = Domain::new(
     0.0,
@@ -288,6 +296,7 @@ schema_fns! {
     shear_rate_axis => SHEAR_RATE.axis,
     wall_eps_axis => WALL_EPS.axis,
     floor_temperature_axis => FLOOR_TEMPERATURE.optional_axis,
+    white_noise_axis => WHITE_NOISE.optional_axis,
     diameter_one => DIAMETER.one,
     mass_optional => MASS.optional,
     phi_axis => PHI.optional_axis,

@@ -186,6 +186,8 @@ record_fields! {
     wall_eps: f64,
     /// Temperature of a thermal floor (0: none).
     floor_temperature: f64,
+    /// The white-noise thermostat's strength ξ₀² (0: none).
+    white_noise: f64,
     /// Relative box sides joined by `x` (empty: square or cubic).
     aspect: String,
     /// Packing fraction.
@@ -251,6 +253,7 @@ impl Record {
             shear_rate: r.shear_rate,
             wall_eps: r.wall_eps,
             floor_temperature: r.floor_temperature,
+            white_noise: r.white_noise,
             aspect: r
                 .aspect
                 .as_ref()

@@ -120,6 +120,7 @@ pub fn phase_table(spec: &Spec, records: &[Record]) -> Vec<PointRow> {
                 && first.species.is_empty()
                 && first.gravity == 0.0
                 && first.floor_temperature == 0.0
+                && first.white_noise == 0.0
                 && first.wall_eps == 1.0
                 && first.boundary != BoundaryKind::LeesEdwards.name()
             {
@@ -228,6 +229,9 @@ fn scene_label(r: &Record) -> String {
     }
     if r.floor_temperature > 0.0 {
         parts.push(format!("floor_T={}", r.floor_temperature));
+    }
+    if r.white_noise > 0.0 {
+        parts.push(format!("noise={}", r.white_noise));
     }
     if !r.aspect.is_empty() {
         parts.push(format!("aspect={}", r.aspect));

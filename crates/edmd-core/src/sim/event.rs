@@ -20,6 +20,8 @@ pub enum EventKind {
     Wall(u32),
     /// Sheared scenes: the sliding images moved by one cell and the outer rows were searched again.
     ShearShift,
+    /// The white-noise thermostat kicked every grain; every event was predicted again.
+    Kick,
 }
 
 /// The popped event of a slot, decoded from its [`super::EventSlot`].

@@ -40,12 +40,14 @@ mod run;
 mod scene;
 mod shear;
 mod system;
+mod thermostat;
 mod upkeep;
 
 use collapse::CollapseMonitor;
 use neighbours::{neighbour_search, CellGrid, Cells, Lists, NeighbourLists, Search, NONE};
 use shear::Shear;
 use system::SystemEvent;
+use thermostat::Thermostat;
 
 pub use collapse::{Collapse, CollapseReason};
 pub use engine::Engine;
@@ -228,6 +230,8 @@ pub struct Simulation<const D: usize, B: Boundary, R: CollisionRule, C: Calendar
     look_ahead: prefetch::LookAhead,
     /// Sheared scenes: the sliding images ([`crate::LeesEdwards`]).
     pub(crate) shear: Shear,
+    /// The white-noise thermostat's kicks (none by default).
+    pub(crate) thermostat: Thermostat,
     _boundary: PhantomData<B>,
 }
 
@@ -291,6 +295,11 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             last_maintenance: (0, 0.0),
             look_ahead: prefetch::LookAhead::default(),
             shear: Shear::default(),
+            thermostat: Thermostat::new(
+                params.white_noise,
+                params.kick_interval,
+                params.kick_conserves_momentum,
+            ),
             _boundary: PhantomData,
         };
         sim.shear = Shear::new::<B>(sim.params.shear_rate, box_len[1], sim.grid.side[0]);
@@ -337,6 +346,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             last_maintenance: self.last_maintenance,
             look_ahead: self.look_ahead,
             shear: self.shear,
+            thermostat: self.thermostat,
             _boundary: PhantomData,
         }
     }

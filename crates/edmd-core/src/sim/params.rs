@@ -38,6 +38,15 @@ pub struct SimParams {
     /// The shear rate `a` of a [`crate::LeesEdwards`] scene (flow u_x = a (y − L_y/2)), ≥ 0; must
     /// be 0 elsewhere (default 0).
     pub shear_rate: f64,
+    /// The white-noise thermostat's strength ξ₀² (0, the default, for none): every grain's velocity
+    /// components receive independent Gaussian kicks of variance ξ₀² per unit time, all at once
+    /// every [`Self::kick_interval`] (PHYSICS.md §8.1). Deep-cooling rescales and drift removal are
+    /// off while it drives the gas.
+    pub white_noise: f64,
+    /// Time between the thermostat's kicks (> 0 where `white_noise` > 0; default 1).
+    pub kick_interval: f64,
+    /// Kicks of zero total momentum (the mass-weighted mean kick removed from each).
+    pub kick_conserves_momentum: bool,
 }
 
 impl Default for SimParams {
@@ -53,6 +62,9 @@ impl Default for SimParams {
             neighbour_skin: 0.0,
             floor_temperature: 0.0,
             shear_rate: 0.0,
+            white_noise: 0.0,
+            kick_interval: 1.0,
+            kick_conserves_momentum: false,
         }
     }
 }
@@ -60,7 +72,19 @@ impl Default for SimParams {
 impl SimParams {
     /// Checks every field against its domain; the error names the field and the value.
     pub fn validate(&self) -> Result<(), EdmdError> {
-        let checks: [(&'static str, f64, bool, &str); 9] = [
+        let checks: [(&'static str, f64, bool, &str); 11] = [
+            (
+                "white_noise",
+                self.white_noise,
+                self.white_noise >= 0.0 && self.white_noise.is_finite(),
+                "must be ≥ 0 and finite (0: no thermostat)",
+            ),
+            (
+                "kick_interval",
+                self.kick_interval,
+                self.kick_interval > 0.0 && self.kick_interval.is_finite(),
+                "must be > 0 and finite",
+            ),
             (
                 "shear_rate",
                 self.shear_rate,

@@ -14,12 +14,12 @@ use serde::{Deserialize, Serialize};
 
 use super::collapse::CollapseMonitor;
 use super::neighbours::NeighbourLists;
-use super::{Counters, Meta, Shear, Simulation};
+use super::{Counters, Meta, Shear, Simulation, Thermostat};
 use crate::calendar::Calendar;
 use crate::{Boundary, CollisionRule, EdmdError, Particle, Vector};
 
 /// The version of the layout below; a state of another version is refused.
-pub const STATE_VERSION: u32 = 1;
+pub const STATE_VERSION: u32 = 2;
 
 /// Fixed-size arrays of any length as a serde tuple (serde itself covers lengths up to 32, and
 /// not a length that is a const parameter).
@@ -79,6 +79,7 @@ struct Saving<'a, const D: usize, S, C> {
     monitor: &'a CollapseMonitor,
     maintenance: (u64, u64, f64),
     shear: &'a Shear,
+    thermostat: &'a Thermostat,
 }
 
 /// The state as it is read: the same fields, in the same order, owned.
@@ -99,6 +100,7 @@ struct Loading<const D: usize, S, C> {
     monitor: CollapseMonitor,
     maintenance: (u64, u64, f64),
     shear: Shear,
+    thermostat: Thermostat,
 }
 
 fn refused(reason: impl Into<String>) -> EdmdError {
@@ -134,6 +136,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                 self.last_maintenance.1,
             ),
             shear: &self.shear,
+            thermostat: &self.thermostat,
         };
         // Sized up front: growing by doubling copied the state several times (docs/benchmarks.md).
         let buffer = Vec::with_capacity(self.heap_bytes());
@@ -197,6 +200,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             self.last_maintenance.1,
         ) = s.maintenance;
         self.shear = s.shear;
+        self.thermostat = s.thermostat;
         Ok(())
     }
 }

@@ -312,16 +312,18 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
 
     /// Whether a deeply cooled gas may have its velocities rescaled: not under gravity (the
     /// acceleration would have to be rescaled too), not under shear (the images' speed too; a
-    /// sheared gas reaches a steady temperature instead of cooling without end).
+    /// sheared gas reaches a steady temperature instead of cooling without end), not with a
+    /// thermostat (a driven gas is steady too).
     #[inline(always)]
     pub(super) fn may_rescale(&self) -> bool {
-        !B::GRAVITY && !B::SHEARED
+        !B::GRAVITY && !B::SHEARED && !self.thermostat.on()
     }
 
     /// Whether the scene conserves momentum, so that a drift may be removed: periodic on every
-    /// axis, without gravity and without the sliding images' exchange of momentum.
+    /// axis, without gravity, without the sliding images' exchange of momentum, and without kicks
+    /// (whose random walk of the total momentum is part of the model).
     #[inline(always)]
     pub(super) fn conserves_momentum(&self) -> bool {
-        B::WALL_MASK == 0 && !B::GRAVITY && !B::SHEARED
+        B::WALL_MASK == 0 && !B::GRAVITY && !B::SHEARED && !self.thermostat.on()
     }
 }

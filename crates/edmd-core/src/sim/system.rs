@@ -1,6 +1,6 @@
 //! System events: the calendar's entries beside the N particles' own, for what happens to the
-//! whole system at a time of its own (today the shift of a sheared box's sliding images; next a
-//! thermostat's kick or a moving floor's phase).
+//! whole system at a time of its own: the shift of a sheared box's sliding images, the white-noise
+//! thermostat's kick; next a moving floor's phase.
 //!
 //! Each kind owns one slot after the particles' (`Meta` records N, N + 1, …), whose event is an
 //! auxiliary one, [`Aux::System`]: the step decodes it like any other and hands it to
@@ -19,11 +19,13 @@ use crate::{Boundary, CollisionRule};
 pub(crate) enum SystemEvent {
     /// Sheared scenes: the sliding images moved by one cell column (`sim/shear.rs`).
     ShearShift,
+    /// The white-noise thermostat's kick of every grain (`sim/thermostat.rs`).
+    Kick,
 }
 
 impl SystemEvent {
     /// Every kind, in slot order.
-    pub const ALL: [SystemEvent; 1] = [SystemEvent::ShearShift];
+    pub const ALL: [SystemEvent; 2] = [SystemEvent::ShearShift, SystemEvent::Kick];
 
     /// The kind's slot in a simulation of `n` particles.
     #[inline(always)]
@@ -64,6 +66,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     fn system_time(&self, kind: SystemEvent) -> f64 {
         match kind {
             SystemEvent::ShearShift => self.shear.next,
+            SystemEvent::Kick => self.thermostat.next,
         }
     }
 
@@ -75,6 +78,10 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             SystemEvent::ShearShift => {
                 self.shear_shift();
                 super::EventKind::ShearShift
+            }
+            SystemEvent::Kick => {
+                self.kick();
+                super::EventKind::Kick
             }
         };
         self.file_system_event(kind);

@@ -150,6 +150,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             m.ev.aux_t -= now;
         }
         self.rebase_shear(now);
+        self.thermostat.next -= now;
         self.epoch += now;
         self.now = 0.0;
     }

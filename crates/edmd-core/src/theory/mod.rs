@@ -17,6 +17,8 @@ mod shear;
 mod shear_enskog;
 pub use shear::ShearFlow;
 pub use shear_enskog::{EnskogShear, ShearSteadyState};
+mod white_noise;
+pub use white_noise::{white_noise_a2, white_noise_temperature};
 
 /// Henderson (1975): χ = (1 − 7φ/16)/(1 − φ)² for hard disks (reliable for φ ≤ 0.35).
 pub fn chi_henderson(phi: f64) -> f64 {

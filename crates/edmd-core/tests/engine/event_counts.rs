@@ -32,7 +32,7 @@ fn tally_matches<const D: usize, B: Boundary, R: edmd_core::CollisionRule>(
             EventKind::Stale(_) => t.stale += 1,
             EventKind::CellCrossing(_) | EventKind::ShellExit(_) => t.crossings += 1,
             EventKind::Wall(_) => t.walls += 1,
-            EventKind::ShearShift => t.system += 1,
+            EventKind::ShearShift | EventKind::Kick => t.system += 1,
         }
     }
     let c = sim.counters();

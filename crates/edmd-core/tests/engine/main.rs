@@ -24,3 +24,4 @@ mod shear_rheology;
 mod single_collision;
 mod stress;
 mod viscoelastic;
+mod white_noise;

@@ -1,6 +1,7 @@
 //! A simulation saved between two events and loaded into another built from the same parameters
 //! (but another seed, so that nothing is shared by chance) goes on bit for bit as the saved one:
-//! cells and lists, walls, a sheared box, rough grains with the TC memory, deep cooling's rescales.
+//! cells and lists, walls, a sheared box, rough grains with the TC memory, deep cooling's rescales,
+//! the white-noise thermostat's clock and random stream.
 
 use edmd_core::{
     Boundary, CollisionRule, ConstantRestitution, InitParams, Periodic, Rule, SimParams,
@@ -89,6 +90,26 @@ fn a_loaded_state_goes_on_bit_for_bit_through_deep_cooling() {
     let rescales = a.counters().rescales;
     continues_identically(a, cooling(4), 1_001, 200_000);
     assert!(rescales > 0);
+}
+
+#[test]
+fn a_loaded_state_goes_on_bit_for_bit_under_white_noise() {
+    let driven = |seed| {
+        let mut p = InitParams::<3>::with_packing(400, 0.1).unwrap();
+        p.seed = seed;
+        p.sim = Some(SimParams {
+            white_noise: 0.5,
+            kick_interval: 0.3,
+            ..p.default_sim_params()
+        });
+        p.build::<Periodic, _>(Rule::new(ConstantRestitution::new(0.8).unwrap()))
+            .unwrap()
+    };
+    let mut a = driven(5);
+    a.run(Stop::Events(30_000));
+    let kicks = a.counters().system_events;
+    continues_identically(a, driven(6), 7_777, 60_000);
+    assert!(kicks > 0);
 }
 
 #[test]

@@ -45,9 +45,11 @@ pub(super) fn write(p: &Group, spec: &Spec, r: &Replica, out: &Outcome) -> hdf5:
     }
     scene::rotational_parameters(p, spec, r)?;
     scene::shear_parameters(p, spec, r)?;
+    scene::white_noise_parameters(p, spec, r)?;
     attr_f64(p, "gravity", r.gravity)?;
     attr_f64(p, "wall_eps", r.wall_eps)?;
     attr_f64(p, "floor_temperature", r.floor_temperature)?;
+    attr_f64(p, "white_noise", r.white_noise)?;
     let aspect = r.aspect.as_ref().map(|a| crate::spec::aspect_label(a));
     attr_str(p, "aspect", &aspect.unwrap_or_default())?;
     let sides = r.sides();

@@ -121,6 +121,7 @@ pub fn read_record(path: &Path, spec_hash: &str) -> Result<Record, SweepError> {
             shear_rate: read_or(&p, "shear_rate", 0.0)?,
             wall_eps: read_or(&p, "wall_eps", 1.0)?,
             floor_temperature: read_or(&p, "floor_temperature", 0.0)?,
+            white_noise: read_or(&p, "white_noise", 0.0)?,
             aspect: aspect_of(&p)?,
             phi: read_f64(&p, "phi")?,
             box_side: read_f64(&p, "box_side")?,

@@ -99,6 +99,20 @@ pub(super) fn shear_parameters(p: &Group, spec: &Spec, r: &Replica) -> hdf5::Res
     Ok(())
 }
 
+/// Parameters of a replica heated by white noise: `kick_interval` Δt, and where the theory applies
+/// (smooth grains of one species, constant restitution below 1) its steady state (PHYSICS.md §8.1):
+/// `white_noise_theory_temperature` T_s and `white_noise_theory_a2`.
+pub(super) fn white_noise_parameters(p: &Group, spec: &Spec, r: &Replica) -> hdf5::Result<()> {
+    if r.white_noise <= 0.0 {
+        return Ok(());
+    }
+    use crate::replica::noise;
+    attr_f64(p, "kick_interval", noise::kick_interval(r))?;
+    let (t, a2) = noise::white_noise_theory(spec, r).unwrap_or((f64::NAN, f64::NAN));
+    attr_f64(p, "white_noise_theory_temperature", t)?;
+    attr_f64(p, "white_noise_theory_a2", a2)
+}
+
 /// The observables of a sheared replica (`replica::ShearSeries`); tensors as [s, D, D], profiles
 /// as [s, B] with the bin centres in `position`.
 pub(super) fn shear_observables(

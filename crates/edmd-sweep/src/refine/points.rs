@@ -11,7 +11,7 @@ use crate::spec::{Grid, OneOrMany, RefineAxis, Spec};
 
 /// The grid fields that are axes (a list is several values); `species` and `aspect` are axes when
 /// they hold a list of lists.
-const AXIS_FIELDS: [&str; 12] = [
+const AXIS_FIELDS: [&str; 13] = [
     "dim",
     "boundary",
     "remedy",
@@ -24,6 +24,7 @@ const AXIS_FIELDS: [&str; 12] = [
     "shear_rate",
     "wall_eps",
     "floor_temperature",
+    "white_noise",
 ];
 const LIST_AXIS_FIELDS: [&str; 2] = ["species", "aspect"];
 

@@ -17,6 +17,7 @@ pub mod bare;
 pub mod checkpoint;
 pub mod extend;
 mod given;
+pub mod noise;
 mod points;
 mod sampler;
 mod scene_theory;

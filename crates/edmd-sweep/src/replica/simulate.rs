@@ -109,6 +109,16 @@ pub(super) fn init_params<const D: usize>(
             ..p.default_sim_params()
         });
     }
+    // The white-noise thermostat (PHYSICS.md §8.1): kicks of zero total momentum, 20 per cooling
+    // time of the steady state.
+    if r.white_noise > 0.0 {
+        p.sim = Some(SimParams {
+            white_noise: r.white_noise,
+            kick_interval: super::noise::kick_interval(r),
+            kick_conserves_momentum: true,
+            ..p.sim.unwrap_or_else(|| p.default_sim_params())
+        });
+    }
     if let Some(from) = &spec.init.from {
         super::given::start_from::<D>(from, r, &mut p)?;
     }

@@ -72,6 +72,21 @@ fn scene_axes(g: &Grid, at: &str) -> Result<(), SweepError> {
             within(&format!("{at}.{field}"), v, d)?;
         }
     }
+    if let Some(f) = &g.white_noise {
+        no_duplicates(at, "white_noise", f)?;
+        if f.values().is_empty() {
+            return bad(
+                at,
+                "white_noise",
+                &"[]",
+                "empty axis: the grid has no replicas",
+            );
+        }
+        for v in f.values() {
+            within(&format!("{at}.white_noise"), v, &domain::WHITE_NOISE)?;
+        }
+        white_noise_scene(g, &format!("{:?}", f.values()), at)?;
+    }
     if let Some(f) = &g.floor_temperature {
         no_duplicates(at, "floor_temperature", f)?;
         if f.values().is_empty() {
@@ -91,6 +106,27 @@ fn scene_axes(g: &Grid, at: &str) -> Result<(), SweepError> {
         }
     }
     Ok(())
+}
+
+/// The thermostat heats a gas in a periodic or walled box, with nothing else driving it.
+fn white_noise_scene(g: &Grid, value: &str, at: &str) -> Result<(), SweepError> {
+    let others = [
+        (g.gravity.values().iter().any(|&x| x > 0.0), "gravity"),
+        (g.floor_temperature.is_some(), "a thermal floor"),
+        (
+            g.boundary.values().contains(&BoundaryKind::LeesEdwards),
+            "a sheared box",
+        ),
+    ];
+    match others.into_iter().find(|o| o.0) {
+        Some((_, what)) => bad(
+            at,
+            "white_noise",
+            &value,
+            &format!("runs without {what} (one drive at a time)"),
+        ),
+        None => Ok(()),
+    }
 }
 
 /// Gravity, floors and wall restitution need walls on the last axis; shear needs the sliding box.

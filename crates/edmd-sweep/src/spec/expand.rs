@@ -43,6 +43,8 @@ pub struct Replica {
     pub wall_eps: f64,
     /// Temperature of a thermal floor (0: none).
     pub floor_temperature: f64,
+    /// The white-noise thermostat's strength ξ₀² (0: none).
+    pub white_noise: f64,
     /// Box as given.
     pub density: Density,
     /// Particle number.
@@ -95,10 +97,13 @@ impl Replica {
         }
     }
 
-    /// Whether the scene has gravity, a thermal floor or shear (not free cooling: no free-cooling
-    /// classification).
+    /// Whether the scene has gravity, a thermal floor, shear or a thermostat (not free cooling: no
+    /// free-cooling classification).
     pub fn driven_or_stratified(&self) -> bool {
-        self.gravity > 0.0 || self.floor_temperature > 0.0 || self.sheared()
+        self.gravity > 0.0
+            || self.floor_temperature > 0.0
+            || self.sheared()
+            || self.white_noise > 0.0
     }
 
     /// Whether the box is a Lees–Edwards box (sheared at `shear_rate`, possibly 0).
@@ -121,6 +126,9 @@ impl Replica {
         }
         if self.floor_temperature > 0.0 {
             out += &format!(", floor_T={}", self.floor_temperature);
+        }
+        if self.white_noise > 0.0 {
+            out += &format!(", noise={}", self.white_noise);
         }
         if let Some(a) = &self.aspect {
             out += &format!(", aspect={}", aspect_label(a));
@@ -264,8 +272,8 @@ pub fn stable_hash(bytes: &[u8]) -> u64 {
 impl Spec {
     /// The replicas in expansion order: grid by grid (the refinement's points last, in round order);
     /// within a grid dim, species, aspect, boundary,
-    /// remedy, n, density, eps, beta, gravity, shear_rate, wall_eps, floor_temperature, seed (seed
-    /// fastest).
+    /// remedy, n, density, eps, beta, gravity, shear_rate, wall_eps, floor_temperature, white_noise,
+    /// seed (seed fastest).
     pub fn replicas(&self) -> Vec<Replica> {
         let mut out = Vec::new();
         for g in self.grids() {
@@ -290,14 +298,17 @@ impl Spec {
             .floor_temperature
             .as_ref()
             .map_or(vec![0.0], |f| f.values());
+        let noises = g.white_noise.as_ref().map_or(vec![0.0], |f| f.values());
         // The scene axes varying inside beta: gravity, shear rate, wall restitution, floor
-        // temperature.
+        // temperature, white noise.
         let mut scenes = Vec::new();
         for gravity in g.gravity.values() {
             for shear_rate in g.shear_rate.values() {
                 for wall_eps in g.wall_eps.values() {
                     for &floor in &floors {
-                        scenes.push((gravity, shear_rate, wall_eps, floor));
+                        for &noise in &noises {
+                            scenes.push((gravity, shear_rate, wall_eps, floor, noise));
+                        }
                     }
                 }
             }
@@ -314,8 +325,13 @@ impl Spec {
                             for &(n, density) in &pairs {
                                 for eps in g.eps.values() {
                                     for beta in g.beta.values() {
-                                        for &(gravity, shear_rate, wall_eps, floor_temperature) in
-                                            &scenes
+                                        for &(
+                                            gravity,
+                                            shear_rate,
+                                            wall_eps,
+                                            floor_temperature,
+                                            white_noise,
+                                        ) in &scenes
                                         {
                                             for seed_index in 0..g.seeds {
                                                 let mut r = Replica {
@@ -331,6 +347,7 @@ impl Spec {
                                                     shear_rate,
                                                     wall_eps,
                                                     floor_temperature,
+                                                    white_noise,
                                                     density,
                                                     n,
                                                     seed_index,

@@ -315,6 +315,12 @@ pub struct Grid {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schemars(schema_with = "domain::floor_temperature_axis")]
     pub floor_temperature: Option<OneOrMany<f64>>,
+    /// The white-noise thermostat's strength ξ₀² (PHYSICS.md §8.1): every grain's velocity
+    /// components receive Gaussian kicks of variance ξ₀² per unit time, so that the gas reaches a
+    /// steady temperature; default none. Periodic or walled boxes without gravity, shear or floor.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(schema_with = "domain::white_noise_axis")]
+    pub white_noise: Option<OneOrMany<f64>>,
 }
 
 fn default_dim() -> OneOrMany<usize> {
