@@ -45,3 +45,12 @@ def test_the_steady_state_matches_the_theory(out, replica):
     want = (d + 2) / d * (1 + a2)
     assert abs(k.mean() - want) < 3 * batch_error(k) + 0.01, (k.mean(), want, batch_error(k))
     assert np.abs(momentum).max() < 1e-9
+
+
+def test_the_report_draws_the_steady_state(out, tmp_path):
+    from edmd_analysis import driven, io, report
+
+    paths = sorted((out / "replicas").glob("r*.h5"))
+    assert report._white_noise_figure(tmp_path, paths) == ["white-noise.png"]
+    states = [driven.steady_white_noise(io.read_replica(p)) for p in paths]
+    assert {s["dim"] for s in states} == {2, 3} and all(abs(s["t_ratio"] - 1) < 0.05 for s in states)

@@ -33,7 +33,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from . import files, io, movie, plots  # noqa: E402
+from . import driven, files, io, movie, plots  # noqa: E402
 
 # The index columns that tell grid points apart (the seed aside).
 POINT_COLUMNS = ("dim", "boundary", "remedy", "n", "phi", "box_side", "eps", "beta", "species",
@@ -163,6 +163,9 @@ LEGENDS = {
                       "each run (replicas at phi <= 0.05): reduced shear rate a* = a/nu0, viscosity "
                       "eta* and normal stresses P_ii/(nT) (points) against kinetic theory, the Enskog "
                       "gas with the anisotropic-Gaussian closure (dashed; docs/PHYSICS.md 7.2).",
+    "white-noise": "Gases heated by white noise, averaged over the second half of each run: the "
+                   "temperature over the theory's T_s (1 in theory) and the speed kurtosis against "
+                   "(d+2)/d (1 + a2) of van Noije & Ernst (dashed; docs/PHYSICS.md 8.1).",
     "stream-profiles": "Stream velocity u_x(y) of sheared replicas over the second half of the run "
                        "against the imposed a (y - L_y/2); orange: density along y over its mean "
                        "(flat when the flow is homogeneous).",
@@ -185,6 +188,7 @@ TITLES = {
     "phase-diagram": "Phase diagram",
     "phase-boundary": "Phase boundary found by refinement",
     "shear-rheology": "Rheology of the steady shear flow",
+    "white-noise": "The steady state of gases heated by white noise",
     "stream-profiles": "Stream velocity and density across the flow",
     "movie-": "Movie of a {c} replica ({k})",
 }
@@ -309,6 +313,17 @@ def _rheology_figure(dest: Path, paths):
     return saved
 
 
+def _white_noise_figure(dest: Path, paths):
+    saved: list = []
+    reps = [r for r in map(io.read_replica, paths)
+            if np.isfinite(float(r.params.get("white_noise_theory_temperature", np.nan)))]
+    if reps:
+        fig, axes = plt.subplots(1, 2, figsize=(10, 3.6))
+        driven.white_noise_steady_state(axes, reps)
+        _save(fig, dest, "white-noise", saved)
+    return saved
+
+
 def _run(task):
     draw, args = task
     return draw(*args)
@@ -411,6 +426,9 @@ def _write_report(out: Path, dest: Path, index, max_points: int, movies: bool, j
         all_sheared = [index.replica_path(i) for i in range(len(index))
                        if index["boundary"][i] == "lees-edwards" and index["status"][i] == "done"]
         tasks.append((_rheology_figure, (dest, all_sheared)))
+    if "white_noise" in index.columns and (index["white_noise"] > 0).any():
+        tasks.append((_white_noise_figure, (dest, [index.replica_path(i) for i in range(len(index))
+                                                    if index["white_noise"][i] > 0 and index["status"][i] == "done"])))
     if movies:
         tasks += _movie_tasks(index, dest)
     saved = _render(tasks, jobs)
