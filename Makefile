@@ -222,7 +222,7 @@ bench-accuracy: deps
 
 
 validate:
-	$(CARGO) test --release -p edmd-core --test engine -- --ignored --nocapture --test-threads 1 equilibrium::
+	$(CARGO) test --release -p edmd-core --test engine -- --ignored --nocapture --test-threads 1 equilibrium:: floor_contact::
 	$(CARGO) test --release -p edmd-sweep --test regimes -- --ignored --nocapture
 
 clean:

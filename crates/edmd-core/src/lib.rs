@@ -32,6 +32,7 @@ pub mod caches;
 pub mod calendar;
 pub mod collide;
 pub mod error;
+pub mod floor;
 pub mod geometry;
 pub mod init;
 pub mod observe;

@@ -7,6 +7,7 @@ mod conservation;
 mod deep_cooling;
 mod equilibrium;
 mod event_counts;
+mod floor_contact;
 mod fuzz;
 mod gravity;
 mod haff;

@@ -1,0 +1,200 @@
+//! A floor that vibrates, z_w(t) = A sin(ωt + φ₀), under gravity (PHYSICS.md §8.2): the first
+//! contact of a grain's parabolic flight with it, found exactly.
+//!
+//! The gap between the grain's lowest point and the floor, h(t) = z₀ + v₀t − gt²/2 − R − A sin(ωt + φ₀),
+//! has h'' = −g + Aω² sin(ωt + φ₀) in [−g − Aω², −g + Aω²]. A contact can only happen while the
+//! flight's lowest point is inside the floor's band [−A, A]: between the time it comes down to A
+//! and the time it would pass −A (both roots of a quadratic). That window is cut at the inflection
+//! times (sin(ωt + φ₀) = g/(Aω²)) into pieces on which h is concave or convex. On a concave piece
+//! that starts at h ≥ 0 a root exists exactly when h < 0 at its end; on a convex piece, exactly
+//! when h < 0 at its minimum (where h' = 0, h' being monotone there). The first piece with a root
+//! brackets the first contact, which a safeguarded Newton iteration then refines to round-off. So
+//! no grazing contact is missed and no grain passes through the floor, whatever Aω against the
+//! grain's speed.
+
+use std::f64::consts::PI;
+
+/// A vibrating floor: amplitude A, angular frequency ω and phase φ₀ at local time 0 (kept reduced
+/// to [0, 2π) by its owner, so that long runs lose no precision in sin(ωt + φ₀)).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Floor {
+    /// Amplitude A ≥ 0.
+    pub amplitude: f64,
+    /// Angular frequency ω > 0.
+    pub omega: f64,
+    /// Phase φ₀ at local time 0.
+    pub phase: f64,
+}
+
+/// A grain's vertical flight: the height z₀ of its lowest point (centre minus radius) and its
+/// vertical speed v₀ at local time 0, under gravity g ≥ 0.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Flight {
+    /// Height of the grain's lowest point at time 0.
+    pub z0: f64,
+    /// Vertical speed at time 0.
+    pub v0: f64,
+    /// Gravity g ≥ 0.
+    pub g: f64,
+}
+
+impl Floor {
+    /// The floor's height at time t.
+    pub fn height(&self, t: f64) -> f64 {
+        self.amplitude * (self.omega * t + self.phase).sin()
+    }
+
+    /// The floor's speed at time t.
+    pub fn speed(&self, t: f64) -> f64 {
+        self.amplitude * self.omega * (self.omega * t + self.phase).cos()
+    }
+}
+
+impl Flight {
+    /// The lowest point's height at time t.
+    pub fn height(&self, t: f64) -> f64 {
+        self.z0 + t * (self.v0 - 0.5 * self.g * t)
+    }
+
+    /// The first time t in (0, horizon] at which the flight meets the floor from above, or None.
+    /// The grain must start on or above the floor (h(0) ≥ 0).
+    pub fn first_contact(&self, floor: &Floor, horizon: f64) -> Option<f64> {
+        let gap = |t: f64| self.height(t) - floor.height(t);
+        let (start, end) = self.band_window(floor.amplitude, horizon)?;
+        let mut cuts = vec![start];
+        cuts.extend(inflections(floor, self.g, start, end));
+        cuts.push(end);
+        for piece in cuts.windows(2) {
+            let (a, b) = (piece[0], piece[1]);
+            if b <= a {
+                continue;
+            }
+            let mid = 0.5 * (a + b);
+            let curvature = -self.g
+                + floor.amplitude * floor.omega.powi(2) * (floor.omega * mid + floor.phase).sin();
+            let low = if curvature < 0.0 {
+                b // concave: the smallest value is at an end, and h(a) ≥ 0
+            } else {
+                self.lowest_on(floor, a, b)
+            };
+            if gap(low) < 0.0 {
+                return Some(self.refine(floor, a, low));
+            }
+        }
+        None
+    }
+
+    /// [start, end] ∩ (0, horizon]: the times at which the lowest point lies in [−A, A]; None if
+    /// it never comes down to A in time.
+    fn band_window(&self, amplitude: f64, horizon: f64) -> Option<(f64, f64)> {
+        let start = if self.z0 <= amplitude {
+            0.0
+        } else {
+            self.first_time_at(amplitude)?
+        };
+        let end = self
+            .first_time_at(-amplitude)
+            .unwrap_or(f64::INFINITY)
+            .min(horizon);
+        (start < end).then_some((start, end))
+    }
+
+    /// The first time t > 0 at which the height comes down to `level` (from above), or None.
+    fn first_time_at(&self, level: f64) -> Option<f64> {
+        let (a, b, c) = (-0.5 * self.g, self.v0, self.z0 - level);
+        if a == 0.0 {
+            return (b < 0.0).then(|| -c / b).filter(|&t| t >= 0.0);
+        }
+        // a t² + b t + c = 0 with a < 0: the larger root is where the parabola falls through.
+        let disc = b * b - 4.0 * a * c;
+        if disc < 0.0 {
+            return None;
+        }
+        let q = -0.5 * (b + b.signum() * disc.sqrt());
+        let (r1, r2) = (q / a, if q != 0.0 { c / q } else { 0.0 });
+        let t = r1.max(r2);
+        (t >= 0.0).then_some(t)
+    }
+
+    /// The time of the gap's minimum on [a, b], where it is convex (h' increasing): h' = 0 by
+    /// bisection, or an end.
+    fn lowest_on(&self, floor: &Floor, a: f64, b: f64) -> f64 {
+        let slope = |t: f64| self.v0 - self.g * t - floor.speed(t);
+        if slope(a) >= 0.0 {
+            return a;
+        }
+        if slope(b) <= 0.0 {
+            return b;
+        }
+        let (mut lo, mut hi) = (a, b);
+        for _ in 0..200 {
+            let mid = 0.5 * (lo + hi);
+            if mid <= lo || mid >= hi {
+                break;
+            }
+            if slope(mid) < 0.0 {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        hi
+    }
+
+    /// The root in [lo, hi] with h(lo) ≥ 0 > h(hi): Newton steps kept inside the bracket, bisection
+    /// where a step would leave it, to round-off.
+    fn refine(&self, floor: &Floor, mut lo: f64, mut hi: f64) -> f64 {
+        let gap = |t: f64| self.height(t) - floor.height(t);
+        let slope = |t: f64| self.v0 - self.g * t - floor.speed(t);
+        let mut t = hi;
+        for _ in 0..200 {
+            let h = gap(t);
+            if h < 0.0 {
+                hi = t;
+            } else {
+                lo = t;
+            }
+            let newton = t - h / slope(t);
+            let next = if newton > lo && newton < hi {
+                newton
+            } else {
+                0.5 * (lo + hi)
+            };
+            if next <= lo || next >= hi || (hi - lo) <= 4.0 * f64::EPSILON * hi.abs() {
+                break;
+            }
+            t = next;
+        }
+        // The last time on or above the floor: the grain never ends below it.
+        if gap(hi) >= 0.0 {
+            hi
+        } else {
+            lo
+        }
+    }
+}
+
+/// The inflection times of the gap in (start, end), in order: sin(ωt + φ₀) = g/(Aω²) (none when
+/// Γ = Aω²/g ≤ 1: the gap is concave throughout).
+fn inflections(floor: &Floor, g: f64, start: f64, end: f64) -> Vec<f64> {
+    let peak = floor.amplitude * floor.omega.powi(2);
+    if peak <= g || !end.is_finite() {
+        return Vec::new();
+    }
+    let s = (g / peak).asin();
+    let w = floor.omega;
+    let mut out = Vec::new();
+    // Phases s and π − s, every period from the one holding `start`.
+    let first = ((w * start + floor.phase - PI) / (2.0 * PI)).floor() - 1.0;
+    let mut k = first;
+    loop {
+        let base = 2.0 * PI * k - floor.phase;
+        let ts = [(base + s) / w, (base + PI - s) / w];
+        if ts[0] >= end {
+            break;
+        }
+        out.extend(ts.into_iter().filter(|&t| t > start && t < end));
+        k += 1.0;
+    }
+    out
+}
