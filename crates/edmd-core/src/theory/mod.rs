@@ -3,6 +3,10 @@
 
 use std::f64::consts::PI;
 
+mod bouncing_ball;
+pub use bouncing_ball::{
+    lift_off_phase, one_period_gamma, one_period_take_off, period_doubling_gamma,
+};
 mod gravity;
 mod mixture;
 pub use gravity::{barometric_floor, barometric_phi_max, barometric_profile};

@@ -22,6 +22,7 @@ mod regress_round_off_contact;
 mod rough;
 mod rough_cooling;
 mod shear_rheology;
+mod single_ball;
 mod single_collision;
 mod stress;
 mod viscoelastic;
