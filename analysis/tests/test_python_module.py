@@ -51,6 +51,17 @@ def test_from_spec_reaches_the_runs_final_state_bit_for_bit(ran, replica):
     assert sim.collisions == collisions
     assert np.array_equal(sim.positions, pos) and np.array_equal(sim.velocities, vel)
     assert sim.positions.shape == (sim.n, sim.dim)
+    o = sim.observe()
+    assert o["temperature"] == sim.temperature and o["pair_collisions"] == collisions
+
+
+def test_spins_of_rough_grains_are_the_files(ran):
+    sim = edmd.Simulation.from_spec(SPEC, replica=3)
+    sim.run(tau=SPEC["stop"]["tau_max"])
+    with h5py.File(ran / "cli" / "replicas" / "r00003.h5", "r") as f:
+        spin = f["particles/gas/angular_velocity/value"][-1]
+    assert sim.spins.shape == (sim.n, 1) and np.abs(spin).max() > 0
+    assert np.array_equal(sim.spins, spin)
 
 
 def test_run_sweep_writes_what_the_command_writes(ran, capsys):

@@ -8,6 +8,7 @@ use edmd_sweep::replica::bare::engine;
 use edmd_sweep::spec::Spec;
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::prelude::*;
+use pyo3::types::PyDict;
 
 use crate::value_error;
 
@@ -50,6 +51,32 @@ impl std::fmt::Debug for Simulation {
             .field("n", &self.n)
             .finish_non_exhaustive()
     }
+}
+
+/// [`Simulation::observe`]'s entries.
+fn fill<const D: usize>(d: &Bound<'_, PyDict>, e: &dyn Engine<D>) -> PyResult<()> {
+    let o = e.observe();
+    let c = e.counters();
+    d.set_item("time", o.time)?;
+    d.set_item("tau", o.tau)?;
+    d.set_item("temperature", o.temperature)?;
+    d.set_item("kinetic_energy", o.kinetic_energy)?;
+    d.set_item("rotational_energy", e.rotational_energy())?;
+    d.set_item("kurtosis", o.kurtosis)?;
+    d.set_item("momentum", o.momentum.iter().copied().collect::<Vec<f64>>())?;
+    for (name, v) in [
+        ("events", c.events),
+        ("pair_collisions", c.pair_collisions),
+        ("wall_collisions", c.wall_collisions),
+        ("crossings", c.crossings),
+        ("stale_events", c.stale),
+        ("system_events", c.system_events),
+        ("restarts", c.restarts),
+        ("rescales", c.rescales),
+    ] {
+        d.set_item(name, v)?;
+    }
+    Ok(())
 }
 
 #[pymethods]
@@ -167,6 +194,30 @@ impl Simulation {
             Inner::D2(e) => rows(py, e.velocities()),
             Inner::D3(e) => rows(py, e.velocities()),
         }
+    }
+
+    /// Angular velocities, in the original particle order: N × 1 (ω_z) in 2D, N × 3 in 3D; zero
+    /// for smooth grains.
+    #[getter]
+    fn spins<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let (spins, dim) = match &*self.inner.lock().expect("not poisoned") {
+            Inner::D2(e) => (e.spins(), 2),
+            Inner::D3(e) => (e.spins(), 3),
+        };
+        let width = if dim == 2 { 1 } else { 3 };
+        let flat: Vec<f64> = spins.iter().flat_map(|w| w[3 - width..].to_vec()).collect();
+        PyArray1::from_vec(py, flat).reshape([spins.len(), width])
+    }
+
+    /// The bulk observables now, as a dict: time, tau, temperature, kinetic and rotational
+    /// energy, kurtosis, total momentum, and the event counters by kind.
+    fn observe<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        match &*self.inner.lock().expect("not poisoned") {
+            Inner::D2(e) => fill(&d, &**e)?,
+            Inner::D3(e) => fill(&d, &**e)?,
+        }
+        Ok(d)
     }
 
     fn __repr__(&self) -> String {
