@@ -99,3 +99,17 @@ def test_ctrl_c_stops_a_run_and_leaves_the_simulation_usable():
     assert 0 < tau < 1e6
     sim.run(collisions=10_000)
     assert sim.tau > tau and abs(sim.temperature - 1) < 0.1
+
+
+BAD = REPO / "tests" / "specs" / "bad"
+
+
+@pytest.mark.parametrize("case", sorted(p.stem for p in BAD.glob("*.json")))
+def test_every_bad_spec_of_the_corpus_raises_value_error_with_the_commands_line(case, monkeypatch):
+    """The corpus `edmd run` refuses (tests/specs/bad/, each with the line it prints): built as one
+    replica, each raises ValueError holding that line. `init.from` paths are the corpus folder's."""
+    monkeypatch.chdir(BAD)
+    expect = (BAD / f"{case}.expect").read_text().strip()
+    with pytest.raises(ValueError) as e:
+        edmd.Simulation.from_spec((BAD / f"{case}.json").read_text())
+    assert expect in str(e.value) and "\n" not in str(e.value), str(e.value)

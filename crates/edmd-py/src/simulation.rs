@@ -4,7 +4,8 @@
 use std::sync::Mutex;
 
 use edmd_core::{Engine, Stop, Vector};
-use edmd_sweep::replica::bare::engine;
+use edmd_sweep::budget::{check_memory, MemoryLimit};
+use edmd_sweep::replica::bare::{any_engine, AnyEngine};
 use edmd_sweep::spec::Spec;
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::prelude::*;
@@ -103,9 +104,12 @@ impl Simulation {
                 replicas.len()
             ))
         })?;
-        let inner = match r.dim {
-            2 => Inner::D2(engine::<2>(&spec, r).map_err(value_error)?),
-            _ => Inner::D3(engine::<3>(&spec, r).map_err(value_error)?),
+        // As `edmd run` does: a replica beyond this machine's memory is refused, not attempted.
+        check_memory(&spec, std::slice::from_ref(r), 1, MemoryLimit::new(None))
+            .map_err(value_error)?;
+        let inner = match any_engine(&spec, r).map_err(value_error)? {
+            AnyEngine::D2(e) => Inner::D2(e),
+            AnyEngine::D3(e) => Inner::D3(e),
         };
         Ok(Simulation {
             inner: Mutex::new(inner),

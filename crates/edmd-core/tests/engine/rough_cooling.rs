@@ -109,11 +109,13 @@ fn rough_disks_beta_half_cool_with_two_temperatures() {
 }
 
 #[test]
+#[ignore = "long validation run: make validate"]
 fn rough_disks_beta_zero_cool_with_two_temperatures() {
     check::<2>(0.0, 0.5);
 }
 
 #[test]
+#[ignore = "long validation run: make validate"]
 fn rough_disks_beta_minus_half_cool_with_two_temperatures() {
     check::<2>(-0.5, 0.5);
 }

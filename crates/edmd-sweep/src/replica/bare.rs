@@ -27,6 +27,37 @@ pub fn engine_only(spec: &Spec, r: &Replica, collisions: u64) -> Result<(u64, f6
     Ok((counters.pair_collisions, start.elapsed().as_secs_f64()))
 }
 
+/// A replica's simulation in either dimension.
+pub enum AnyEngine {
+    /// A 2D replica.
+    D2(Box<dyn Engine<2>>),
+    /// A 3D replica.
+    D3(Box<dyn Engine<3>>),
+}
+
+impl std::fmt::Debug for AnyEngine {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let (dim, n) = match self {
+            AnyEngine::D2(e) => (2, e.len()),
+            AnyEngine::D3(e) => (3, e.len()),
+        };
+        f.debug_struct("AnyEngine")
+            .field("dim", &dim)
+            .field("n", &n)
+            .finish_non_exhaustive()
+    }
+}
+
+/// Replica `r`'s simulation in its dimension. Not generic, so that a crate calling it (the Python
+/// module) links the engine compiled here instead of compiling its own copy of every scene.
+pub fn any_engine(spec: &Spec, r: &Replica) -> Result<AnyEngine, EdmdError> {
+    match r.dim {
+        2 => engine::<2>(spec, r).map(AnyEngine::D2),
+        3 => engine::<3>(spec, r).map(AnyEngine::D3),
+        d => Err(EdmdError::invalid("dim", d, "dimension must be 2 or 3")),
+    }
+}
+
 /// Replica `r`'s simulation as the runner builds it: its scene as a type, its rule, its start
 /// (placement or `init.from`, and the melt).
 pub fn engine<const D: usize>(spec: &Spec, r: &Replica) -> Result<Box<dyn Engine<D>>, EdmdError> {
