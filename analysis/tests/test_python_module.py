@@ -22,12 +22,14 @@ if os.environ.get("EDMD_TEST_MODULE"):
 else:
     edmd = pytest.importorskip("edmd", reason="the module is built by `make python-module`")
 
-SPEC = {"name": "py", "seed": 4,
+SPEC = {"name": "py", "seed": 4,  # replicas: 2D ε 0.9 and 0.7, 3D walls, rough, sheared, a mixture
         "grid": [
             {"dim": 2, "eps": [0.9, 0.7], "phi": 0.25, "n": 500},
             {"dim": 3, "boundary": "walls", "eps": 0.8, "phi": 0.2, "n": 400},
             {"dim": 2, "eps": 0.8, "beta": 0.5, "phi": 0.2, "n": 300},
             {"dim": 2, "boundary": "lees-edwards", "shear_rate": 0.05, "eps": 0.9, "phi": 0.1, "n": 300},
+            {"dim": 2, "eps": 0.9, "phi": 0.1, "n": 300,
+             "species": [[{"fraction": 0.5, "diameter": 1}, {"fraction": 0.5, "diameter": 1.4, "mass": 4}]]},
         ],
         "stop": {"tau_max": 30}, "samples": {"every": 5, "per_decade": 0}}
 
@@ -44,7 +46,7 @@ def test_the_version_is_the_workspaces():
     assert edmd.__version__.count(".") == 2
 
 
-@pytest.mark.parametrize("replica", range(5))
+@pytest.mark.parametrize("replica", range(6))
 def test_from_spec_reaches_the_runs_final_state_bit_for_bit(ran, replica):
     sim = edmd.Simulation.from_spec(SPEC, replica=replica)
     sim.run(tau=SPEC["stop"]["tau_max"])
@@ -59,6 +61,15 @@ def test_from_spec_reaches_the_runs_final_state_bit_for_bit(ran, replica):
     assert o["temperature"] == sim.temperature and o["pair_collisions"] == collisions
 
 
+def test_a_mixtures_species_radii_and_masses_are_the_files(ran):
+    sim = edmd.Simulation.from_spec(SPEC, replica=5)
+    with h5py.File(ran / "cli" / "replicas" / "r00005.h5", "r") as f:
+        species = f["particles/gas/species"][()]
+    assert np.array_equal(sim.species, species) and set(species) == {0, 1}
+    assert np.array_equal(sim.radii, np.where(species == 0, 0.5, 0.7))
+    assert np.array_equal(sim.masses, np.where(species == 0, 1.0, 4.0))
+
+
 def test_spins_of_rough_grains_are_the_files(ran):
     sim = edmd.Simulation.from_spec(SPEC, replica=3)
     sim.run(tau=SPEC["stop"]["tau_max"])
@@ -68,20 +79,24 @@ def test_spins_of_rough_grains_are_the_files(ran):
     assert np.array_equal(sim.spins, spin)
 
 
-def test_run_sweep_writes_what_the_command_writes(ran, capsys):
+def load_compare():
     spec = importlib.util.spec_from_file_location("compare_outputs", REPO / "scripts" / "compare-outputs.py")
     compare = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(compare)
+    return compare
+
+
+def test_run_sweep_writes_what_the_command_writes(ran, capsys):
     table = edmd.run_sweep(SPEC, ran / "py", threads=2)
-    assert compare.main(str(ran / "cli"), str(ran / "py")) == 0, capsys.readouterr().out
-    assert len(table) == 5 and set(table["done"]) == {1}
+    assert load_compare().main(str(ran / "cli"), str(ran / "py")) == 0, capsys.readouterr().out
+    assert len(table) == 6 and set(table["done"]) == {1}
 
 
 def test_a_bad_spec_raises_value_error_with_the_commands_line(tmp_path):
     bad = dict(SPEC, grid=[{"eps": 1.5, "phi": 0.25, "n": 100}])
     with pytest.raises(ValueError, match=r"eps = 1.5"):
         edmd.Simulation.from_spec(bad)
-    with pytest.raises(ValueError, match="the sweep has 5 replicas"):
+    with pytest.raises(ValueError, match="the sweep has 6 replicas"):
         edmd.Simulation.from_spec(SPEC, replica=7)
     with pytest.raises(ValueError, match="eps = 1.5"):
         edmd.run_sweep(bad, tmp_path / "o")
@@ -113,3 +128,92 @@ def test_every_bad_spec_of_the_corpus_raises_value_error_with_the_commands_line(
     with pytest.raises(ValueError) as e:
         edmd.Simulation.from_spec((BAD / f"{case}.json").read_text())
     assert expect in str(e.value) and "\n" not in str(e.value), str(e.value)
+
+
+def test_a_changed_rule_takes_effect_in_the_next_run():
+    """ε set to 1 between runs: the cooling gas keeps its energy from then on (to rounding); a bad
+    value is refused with the spec's message and changes nothing."""
+    sim = edmd.Simulation.from_spec(SPEC, replica=0)
+    interval = sim.run(tau=5)
+    cooled = sim.temperature
+    assert cooled < 0.9 and interval["z"] > 1 and interval["collision_frequency"] > 0
+    sim.set_rule(eps=1.0)
+    assert sim.eps == 1.0
+    sim.run(tau=10)
+    assert sim.temperature == pytest.approx(cooled, rel=1e-12)
+    with pytest.raises(ValueError, match="eps"):
+        sim.set_rule(eps=1.5)
+    with pytest.raises(ValueError, match="rule: unknown variant"):
+        sim.set_rule(rule={"kind": "sticky"})
+    assert sim.eps == 1.0
+    sim.set_rule(eps=0.5, remedy={"kind": "tc", "tc": 1e-3})
+    sim.run(tau=11)
+    assert sim.temperature < 0.99 * cooled
+
+
+def test_run_until_a_temperature_stops_where_it_is_first_reached():
+    sim = edmd.Simulation.from_spec(SPEC, replica=1)  # ε 0.7, N 500
+    sim.run(until_temperature=0.25)
+    # The last chunks are 10 collisions: each costs ~(1 − ε²)/N of the energy, 0.1 % here.
+    assert 0.25 * 0.98 < sim.temperature <= 0.25
+    tau = sim.tau
+    sim.run(until_temperature=1e-9, tau=tau + 1)
+    assert sim.tau == pytest.approx(tau + 1) and sim.temperature > 1e-9
+    with pytest.raises(ValueError, match="until_temperature = -1"):
+        sim.run(until_temperature=-1.0)
+
+
+def test_a_saved_state_loads_exactly_and_the_command_reads_it(tmp_path):
+    for replica in (0, 3):  # smooth; rough (with spins)
+        sim = edmd.Simulation.from_spec(SPEC, replica=replica)
+        sim.run(tau=3)
+        path = tmp_path / f"state{replica}.txt"
+        sim.save(path)
+        again = edmd.Simulation.load(path, SPEC, replica=replica)
+        assert again.tau == 0 and again.n == sim.n
+        for name in ("positions", "velocities", "spins", "radii", "masses"):
+            assert np.array_equal(getattr(again, name), getattr(sim, name)), name
+    spec = dict(SPEC, grid=SPEC["grid"][3], init={"from": {"file": str(tmp_path / "state3.txt")}})
+    (tmp_path / "s.json").write_text(json.dumps(spec))
+    assert "valid" in run_edmd("validate-spec", tmp_path / "s.json").stdout
+
+
+def test_order_parameters_are_those_of_the_files(ran):
+    """observe(grid=g) gives the classifier's order parameters (the sweep's classify grid)."""
+    grid = 4
+    spec = dict(SPEC, classify={"grid": grid})
+    sim = edmd.Simulation.from_spec(spec, replica=0)
+    sim.run(tau=SPEC["stop"]["tau_max"])
+    o = sim.observe(grid=grid)
+    d = ran / "classified"
+    (ran / "classified.json").write_text(json.dumps(spec))
+    run_edmd("run", ran / "classified.json", "-o", d, "-q")
+    with h5py.File(d / "replicas" / "r00000.h5", "r") as f:
+        for name in ("f_flow", "s_perp", "delta_rho2", "f_2x", "s_rho"):
+            assert o[name] == f[f"observables/{name}/value"][-1], name
+
+
+def test_run_sweep_reports_progress_and_runs_shards(ran, capsys, tmp_path):
+    calls = []
+    table = edmd.run_sweep(SPEC, tmp_path / "o", threads=1, progress=lambda *a: calls.append(a))
+    assert len(table) == 6
+    assert calls and calls[-1][2] == calls[-1][3] == 6, calls[-1]
+    assert all(a[0] <= b[0] for a, b in zip(calls, calls[1:])), "collisions never go back"
+    for k in range(3):
+        part = edmd.run_sweep(SPEC, tmp_path / "s", shard=f"{k}/3", progress=False)
+    assert len(part) == 6, "the last shard completes the sweep"
+    assert load_compare().main(str(ran / "cli"), str(tmp_path / "s")) == 0, capsys.readouterr().out
+
+
+def test_ctrl_c_stops_a_sweep_with_checkpoints_and_it_goes_on(ran, capsys, tmp_path):
+    spec = dict(SPEC, checkpoint={"every_s": 0, "every_tau": 2})
+    spec["stop"] = {"tau_max": 400}
+    threading.Timer(0.5, _thread.interrupt_main).start()
+    start = time.monotonic()
+    with pytest.raises(KeyboardInterrupt):
+        edmd.run_sweep(spec, tmp_path / "a", threads=2, progress=False)
+    assert time.monotonic() - start < 2.0
+    assert list((tmp_path / "a" / "states").glob("*.ckpt")), "the replicas in flight were checkpointed"
+    edmd.run_sweep(spec, tmp_path / "a", threads=2, progress=False)
+    edmd.run_sweep(spec, tmp_path / "b", threads=2, progress=False)
+    assert load_compare().main(str(tmp_path / "b"), str(tmp_path / "a")) == 0, capsys.readouterr().out

@@ -6,6 +6,8 @@
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
+mod chunks;
+mod configuration;
 mod simulation;
 mod sweep;
 

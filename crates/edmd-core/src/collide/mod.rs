@@ -74,6 +74,17 @@ pub trait CollisionRule: Clone + Debug + Send + Sync + 'static {
     #[inline(always)]
     fn set_spin(_state: &mut Self::State, _spin: [f64; 3]) {}
 
+    /// Replaces the law and the remedy, keeping the grains' kind and every particle's memory
+    /// (between two runs: the next collision uses them). A rule that is one fixed law refuses.
+    fn set_law(&mut self, law: Law, remedy: Remedy) -> Result<(), crate::EdmdError> {
+        let _ = (law, remedy);
+        Err(crate::EdmdError::invalid(
+            "rule",
+            std::any::type_name::<Self>(),
+            "this rule is one fixed law; build the simulation with a `Rule` to change it",
+        ))
+    }
+
     /// Rotation angle for the post-collision relative velocity (only called when `ROTATES`).
     #[inline(always)]
     fn rotation_angle(&self, _rng: &mut rand_xoshiro::Xoshiro256PlusPlus) -> f64 {

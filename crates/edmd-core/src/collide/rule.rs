@@ -275,6 +275,11 @@ impl<G: Grain> CollisionRule for Rule<G> {
         self.law.restitution(vn, m_eff, r_eff)
     }
 
+    fn set_law(&mut self, law: Law, remedy: Remedy) -> Result<(), EdmdError> {
+        *self = Rule { law, ..*self }.with_remedy(remedy)?;
+        Ok(())
+    }
+
     #[inline(always)]
     fn restitution_at(
         &self,

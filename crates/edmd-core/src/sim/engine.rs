@@ -36,6 +36,10 @@ pub trait Engine<const D: usize>: Send {
     fn box_len(&self) -> &Vector<D>;
     /// Masses, in the original particle order.
     fn masses(&self) -> Vec<f64>;
+    /// Radii, in the original particle order.
+    fn radii(&self) -> Vec<f64>;
+    /// Replaces the rule's law and remedy between runs (see [`Simulation::set_law`]).
+    fn set_law(&mut self, law: crate::Law, remedy: crate::Remedy) -> Result<(), crate::EdmdError>;
     /// Positions now, in the original particle order, wrapped into the box.
     fn positions(&self) -> Vec<Vector<D>>;
     /// Physical velocities now, in the original particle order.
@@ -97,6 +101,12 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar + Send> Engine<D
     }
     fn masses(&self) -> Vec<f64> {
         Simulation::masses(self)
+    }
+    fn radii(&self) -> Vec<f64> {
+        Simulation::radii(self)
+    }
+    fn set_law(&mut self, law: crate::Law, remedy: crate::Remedy) -> Result<(), crate::EdmdError> {
+        Simulation::set_law(self, law, remedy)
     }
     fn positions(&self) -> Vec<Vector<D>> {
         Simulation::positions(self)

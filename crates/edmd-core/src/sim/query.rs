@@ -134,6 +134,16 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         &self.rule
     }
 
+    /// Replaces the collision rule's law and remedy between runs (see [`CollisionRule::set_law`]).
+    pub fn set_law(&mut self, law: crate::Law, remedy: crate::Remedy) -> Result<(), EdmdError> {
+        self.rule.set_law(law, remedy)
+    }
+
+    /// Radii, in the original particle order.
+    pub fn radii(&self) -> Vec<f64> {
+        self.in_original_order(|s| self.particles[s].radius)
+    }
+
     /// Masses, in the original particle order.
     pub fn masses(&self) -> Vec<f64> {
         self.in_original_order(|s| self.meta[s].mass)

@@ -5,30 +5,79 @@
     sim = edmd.Simulation.from_spec(spec, replica=0)   # a sweep spec as a dict
     sim.run(tau=100)
     sim.positions, sim.velocities, sim.temperature
+    sim.set_rule(eps=0.7); sim.run(until_temperature=0.01)
     table = edmd.run_sweep(spec, "out", threads=2)     # the phase table as a DataFrame
 """
 
 import json
 import os
+import sys
 
 from ._native import Simulation, __version__, run_sweep_json
 
 __all__ = ["Simulation", "run_sweep", "__version__"]
 
 
-def run_sweep(spec, out, threads=None, force=False):
-    """Runs the sweep ``spec`` (a dict, JSON text, or the path of a spec file) into the directory
-    ``out``, writing the files ``edmd run`` writes, bit for bit, and returns the phase table as a
-    pandas DataFrame (a list of dicts without pandas). Raises ValueError for a bad spec, with the
-    line the command prints."""
+def _spec_text(spec):
     if isinstance(spec, (str, os.PathLike)) and os.path.exists(spec):
         with open(spec) as f:
-            text = f.read()
-    elif isinstance(spec, str):
-        text = spec
-    else:
-        text = json.dumps(spec)
-    rows = json.loads(run_sweep_json(text, os.fspath(out), threads, force))
+            return f.read()
+    if isinstance(spec, str):
+        return spec
+    return json.dumps(spec)
+
+
+class _Bar:
+    """Progress in collisions: tqdm's bar (a widget in a notebook) where tqdm is installed, else a
+    line on stderr rewritten in place."""
+
+    def __init__(self):
+        try:
+            from tqdm.auto import tqdm
+        except ImportError:
+            tqdm = None
+        self._tqdm = tqdm
+        self._bar = None
+
+    def __call__(self, collisions, total, done, replicas):
+        if self._tqdm is not None:
+            if self._bar is None:
+                self._bar = self._tqdm(total=total, unit=" coll", unit_scale=True, desc="edmd")
+            self._bar.total = total
+            self._bar.n = min(collisions, total)
+            self._bar.set_postfix_str(f"{done}/{replicas} replicas", refresh=False)
+            self._bar.refresh()
+        elif total:
+            print(f"\redmd: {100 * collisions / total:5.1f} % of {total:.3g} collisions, "
+                  f"{done}/{replicas} replicas", end="", file=sys.stderr, flush=True)
+
+    def close(self):
+        if self._bar is not None:
+            self._bar.close()
+        elif self._tqdm is None:
+            print(file=sys.stderr)
+
+
+def run_sweep(spec, out, threads=None, force=False, shard=None, progress=True):
+    """Runs the sweep ``spec`` (a dict, JSON text, or the path of a spec file) into the directory
+    ``out``, writing the files ``edmd run`` writes, bit for bit, and returns the phase table as a
+    pandas DataFrame (a list of dicts without pandas; empty while other shards are missing).
+
+    ``threads``: worker threads (default every core); ``shard``: ``"K/N"``, run only share K of N
+    of the replicas, as ``edmd run --shard``; ``force``: replace the output of another spec.
+    ``progress``: True for a bar (tqdm's where installed), False for none, or a callable
+    ``f(collisions, total, replicas_done, replicas)`` called a few times a second.
+
+    Ctrl-C stops the run with each replica in flight checkpointed and raises KeyboardInterrupt;
+    calling ``run_sweep`` again goes on from there. A bad spec raises ValueError with the line the
+    command prints."""
+    bar = _Bar() if progress is True else None
+    callback = bar if bar is not None else (progress or None)
+    try:
+        rows = json.loads(run_sweep_json(_spec_text(spec), os.fspath(out), threads, force, shard, callback))
+    finally:
+        if bar is not None:
+            bar.close()
     try:
         import pandas
     except ImportError:

@@ -6,8 +6,8 @@
 use std::time::Instant;
 
 use edmd_core::{
-    Boundary, Channel, CollisionRule, Column, Container, EdmdError, Engine, LeesEdwards, Periodic,
-    Stop, Walls,
+    Boundary, Channel, CollisionRule, Column, Container, EdmdError, Engine, Law, LeesEdwards,
+    Periodic, Remedy, Stop, Walls,
 };
 
 use super::{rule, simulate::init_params};
@@ -56,6 +56,13 @@ pub fn any_engine(spec: &Spec, r: &Replica) -> Result<AnyEngine, EdmdError> {
         3 => engine::<3>(spec, r).map(AnyEngine::D3),
         d => Err(EdmdError::invalid("dim", d, "dimension must be 2 or 3")),
     }
+}
+
+/// The law and remedy replica `r` collides by, as the runner builds them (and checks them against
+/// its scene): what a simulation built by [`any_engine`] takes to change its rule between runs.
+pub fn law_and_remedy(spec: &Spec, r: &Replica) -> Result<(Law, Remedy), EdmdError> {
+    let rule = rule(spec, r)?;
+    Ok((*rule.law(), rule.remedy()))
 }
 
 /// Replica `r`'s simulation as the runner builds it: its scene as a type, its rule, its start
