@@ -46,7 +46,7 @@ endif
 PREFIX ?= $(HOME)/.local
 
 
-.PHONY: python-module test-python-module disk-full install test-portable bench-instructions bench-bin all deps deps-system venv venv-base release-bin build run figures demo cli check test test-rust test-bin test-python lint lint-rust lint-python bench bench-smoke bench-nightly bench-accuracy stress test-slurm run-rust-tests run-python-tests run-python-tests-long run-python-tests-rest run-slurm-tests validate clean
+.PHONY: python-module test-python-module disk-full install test-portable bench-instructions bench-bin all deps deps-system venv venv-base release-bin build run figures demo cli check test test-rust test-bin test-python lint lint-rust lint-python bench bench-smoke bench-nightly bench-accuracy stress test-slurm run-rust-tests run-python-tests run-slurm-tests validate clean
 
 all: build
 
@@ -176,19 +176,8 @@ bench-smoke:
 
 # The parts of `make test` that only run what test-bin built; they call no cargo that builds, so
 # they can run side by side (cargo holds its build lock while it runs the Rust tests).
-run-python-tests: run-python-tests-long run-python-tests-rest
-
-# `make test` runs the Python tests as two pytest processes beside the Rust and Slurm tests, so that
-# the two cores stay busy to the end: the modules that run whole sweeps, and the rest. Each has a
-# temporary directory of its own.
-PYTEST := EDMD_BIN=$(TEST_BIN) EDMD_TEST_MODULE=1 PYTHONPATH=$(TEST_MODULE_DIR) $(VENV)/bin/python -m pytest -q
-PYTEST_LONG := $(addprefix analysis/tests/,test_checkpoints.py test_refine.py test_scenes.py test_quick_report.py test_tutorial.py)
-
-run-python-tests-long:
-	$(PYTEST) --basetemp=$(CURDIR)/target/pytest-long $(PYTEST_LONG)
-
-run-python-tests-rest:
-	$(PYTEST) -p no:cacheprovider --basetemp=$(CURDIR)/target/pytest-rest analysis $(addprefix --ignore=,$(PYTEST_LONG))
+run-python-tests:
+	EDMD_BIN=$(TEST_BIN) EDMD_TEST_MODULE=1 PYTHONPATH=$(TEST_MODULE_DIR) $(VENV)/bin/python -m pytest -q analysis
 
 run-slurm-tests:
 	PY=$(CURDIR)/$(VENV)/bin/python EDMD=$(TEST_BIN) bash tests/slurm/test-slurm.sh
@@ -200,15 +189,15 @@ run-rust-tests:
 # Everything CI checks, scheduled for a 2-core machine (docs/benchmarks.md, "The lean build"): the
 # format check and clippy run while the venv is made (clippy's chain of crates leaves a core free,
 # pip takes one), then the tests build, sharing clippy's build scripts and proc macros; then the
-# Rust tests, the Python tests in two processes and the Slurm test run side by side (pytest is
-# single-threaded, the Slurm test mostly waits for its scheduler), each printing its output when it
-# ends. Without incremental
+# Rust, Python and Slurm tests run side by side (the Python tests are single-threaded, the Slurm test
+# mostly waits for its scheduler), each printing its output when it ends. (Two pytest processes
+# instead of one gained nothing: the two cores are busy to the end either way, 513 s against 505 s.) Without incremental
 # caches: a fresh build writes none it would never read.
 test: export CARGO_INCREMENTAL = 0
 test: deps-system
 	@$(MAKE) --no-print-directory -j2 --output-sync=target venv lint-rust
 	@$(MAKE) --no-print-directory lint-python test-bin
-	@$(MAKE) --no-print-directory -j4 --output-sync=target run-rust-tests run-python-tests-long run-python-tests-rest run-slurm-tests
+	@$(MAKE) --no-print-directory -j3 --output-sync=target run-rust-tests run-python-tests run-slurm-tests
 
 # The wall-clock benchmarks time an edmd-bench compiled for the processor they run on (`-C
 # target-cpu=native`), as the peers' build.sh compiles theirs (`-march=native`): the same trajectories

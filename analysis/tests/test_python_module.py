@@ -217,3 +217,17 @@ def test_ctrl_c_stops_a_sweep_with_checkpoints_and_it_goes_on(ran, capsys, tmp_p
     edmd.run_sweep(spec, tmp_path / "a", threads=2, progress=False)
     edmd.run_sweep(spec, tmp_path / "b", threads=2, progress=False)
     assert load_compare().main(str(tmp_path / "b"), str(tmp_path / "a")) == 0, capsys.readouterr().out
+
+
+def test_refine_writes_what_the_command_writes(capsys, tmp_path):
+    import shutil
+    spec = {"name": "rf", "seed": 2, "grid": {"eps": [0.6, 1.0], "phi": 0.25, "box": [40, 80]},
+            "stop": {"tau_max": 200}, "samples": {"every": 5, "per_decade": 0}, "classify": {}}
+    edmd.run_sweep(spec, tmp_path / "a", progress=False)
+    shutil.copytree(tmp_path / "a", tmp_path / "b")
+    run_edmd("refine", tmp_path / "a", "--rounds", "2", "-q")
+    table = edmd.refine(tmp_path / "b", rounds=2, progress=False)
+    assert load_compare().main(str(tmp_path / "a"), str(tmp_path / "b")) == 0, capsys.readouterr().out
+    assert len(table) > 4 and (tmp_path / "b" / "boundary.json").exists()
+    with pytest.raises(ValueError, match="unknown axis"):
+        edmd.refine(tmp_path / "b", axes=["zeta"])

@@ -1,6 +1,6 @@
 //! `edmd refine`: rounds of run, plan and a longer spec (docs/sweep-spec.md, "Refinement").
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use anyhow::bail;
@@ -8,8 +8,11 @@ use clap::Args;
 
 use edmd_sweep::lock::LockMode;
 use edmd_sweep::output::OutDir;
-use edmd_sweep::run::{run_sweep, RunOptions};
-use edmd_sweep::spec::{RefineAxis, Refinement, Shard};
+use edmd_sweep::record::Record;
+use edmd_sweep::refine;
+use edmd_sweep::refine_rounds::{self, End, Limits};
+use edmd_sweep::run::{RunOptions, RunReport};
+use edmd_sweep::spec::{RefineAxis, Shard, Spec};
 use edmd_sweep::summary::{phase_table, render};
 
 use crate::bar::Bar;
@@ -82,7 +85,7 @@ fn asked_axes(axes: Option<&str>) -> anyhow::Result<Option<Vec<RefineAxis>>> {
 /// that differ run out; with `--shard` only this share's unfinished replicas, with `--plan` only the
 /// index and the next round's points.
 pub fn command(a: RefineArgs) -> anyhow::Result<ExitCode> {
-    let (_, mut spec) = OutDir::open(&a.out)?;
+    let (_, spec) = OutDir::open(&a.out)?;
     if spec.classify.is_none() {
         bail!(
             "refine: {} has no \"classify\" section: its replicas carry no regime to refine",
@@ -90,12 +93,18 @@ pub fn command(a: RefineArgs) -> anyhow::Result<ExitCode> {
         );
     }
     let asked = asked_axes(a.axes.as_deref())?;
-    let axes = edmd_sweep::refine::choose_axes(&spec, asked.as_deref())?;
+    let axes = refine::choose_axes(&spec, asked.as_deref())?;
     let shard = a.shard.as_deref().map(Shard::parse).transpose()?;
     let threads = thread_count(a.threads)?;
-    let budget = a.budget.unwrap_or(usize::MAX);
+    let limits = Limits {
+        rounds: a.rounds,
+        budget: a.budget,
+    };
     let mode = shard.map_or(LockMode::Exclusive, LockMode::Shard);
     let dir = OutDir::prepare(&a.out, &spec, false, mode)?;
+    if a.plan {
+        return plan_only(&a, &dir, spec, &axes, limits);
+    }
     let opts = RunOptions {
         threads: Some(threads),
         max_memory: a.max_memory,
@@ -103,119 +112,70 @@ pub fn command(a: RefineArgs) -> anyhow::Result<ExitCode> {
         force: false,
         interrupt: Some(crate::interrupt::on_signals()?),
     };
-    let mut problems = Vec::new();
-    loop {
-        let Some(records) = round_records(&a, &dir, &spec, &opts, &mut problems)? else {
-            return Ok(say_problems(&problems));
-        };
-        let done = edmd_sweep::refine::rounds(&spec);
-        if done >= a.rounds {
-            break;
-        }
-        let left = budget.saturating_sub(edmd_sweep::refine::refinement_replicas(&spec));
-        let round =
-            edmd_sweep::refine::plan(&edmd_sweep::refine::points(&spec, &records), &axes, left);
-        if round.is_empty() {
-            let seeds = spec.grids().iter().map(|g| g.seeds as usize).min();
-            let why = if left < seeds.unwrap_or(1) {
-                format!("the budget of {budget} replicas is spent")
-            } else {
-                "no pair of neighbouring points differs".to_string()
-            };
-            eprintln!("refine: {why}; the refinement ends after {done} round(s)");
-            break;
-        }
-        let added: usize = round.iter().map(|g| g.seeds as usize).sum();
-        let points = round.len();
-        spec = edmd_sweep::refine::with_round(&spec, &axes, round);
-        spec.validate()?;
-        dir.set_spec(&spec)?;
-        eprintln!(
-            "refine: round {} of {}: {points} point(s), {added} replica(s)",
-            done + 1,
-            a.rounds
-        );
-        if a.plan {
-            return Ok(ExitCode::SUCCESS);
-        }
+    let log = Printed { out: &a.out, shard };
+    let refined =
+        refine_rounds::refine(&dir, spec, &axes, limits, &opts, &Bar::new(a.quiet), &log)?;
+    match refined.end {
+        End::Interrupted(k) => return Err(crate::interrupt::Interrupted(k).into()),
+        End::ShardDone => eprintln!(
+            "refine: this shard's replicas are finished; `edmd refine {} --plan` plans the next round once every shard has run",
+            a.out.display()
+        ),
+        End::Finished(records) => say_finished(&a, &refined.spec, &records, &axes),
     }
-    finish(&a, &dir, &mut spec, &axes)?;
-    Ok(say_problems(&problems))
+    Ok(say_problems(&refined.problems))
 }
 
-/// The records of the sweep as it stands: with `--plan` those on disk (every replica must be
-/// finished), else after running its unfinished replicas. None when only this shard's are done.
-fn round_records(
-    a: &RefineArgs,
-    dir: &OutDir,
-    spec: &edmd_sweep::spec::Spec,
-    opts: &RunOptions,
-    problems: &mut Vec<(
-        edmd_sweep::spec::Replica,
-        edmd_sweep::record::Status,
-        String,
-    )>,
-) -> anyhow::Result<Option<Vec<edmd_sweep::record::Record>>> {
-    if a.plan {
-        let records = dir.records(spec);
-        let missing = records.iter().filter(|r| !r.status.has_file()).count();
-        if missing > 0 {
-            bail!(
-                "refine --plan: {missing} replica(s) of {} are not finished; run them first (edmd refine {} --shard K/N, or without --shard)",
-                a.out.display(),
-                a.out.display()
-            );
-        }
-        dir.write_index(spec, &records)?;
-        return Ok(Some(records));
+/// The refinement's lines on stderr, as `edmd run` prints its own.
+struct Printed<'a> {
+    out: &'a Path,
+    shard: Option<Shard>,
+}
+
+impl refine_rounds::Log for Printed<'_> {
+    fn ran(&self, spec: &Spec, report: &RunReport) {
+        say_ran(spec, report, self.shard, self.out);
     }
-    let report = run_sweep(spec, dir, opts, &Bar::new(a.quiet))?;
-    say_ran(spec, &report, opts.shard, &a.out);
-    if report.interrupted > 0 {
-        return Err(crate::interrupt::Interrupted(report.interrupted).into());
-    }
-    problems.extend(report.problems.iter().cloned());
-    match report.records {
-        Some(records) if opts.shard.is_none() => Ok(Some(records)),
-        _ => {
-            eprintln!(
-                "refine: this shard's replicas are finished; `edmd refine {} --plan` plans the next round once every shard has run",
-                a.out.display()
-            );
-            Ok(None)
-        }
+    fn say(&self, line: &str) {
+        eprintln!("{line}");
     }
 }
 
-/// The end of a refinement: the index and boundary, the phase table, and what it cost against the
-/// full grid of the same resolution.
-fn finish(
+/// `--plan`: the index of the finished round (every replica must be finished), then the next
+/// round's points into the spec, or the end of the refinement.
+fn plan_only(
     a: &RefineArgs,
     dir: &OutDir,
-    spec: &mut edmd_sweep::spec::Spec,
+    mut spec: Spec,
     axes: &[RefineAxis],
-) -> anyhow::Result<()> {
-    let records = dir.records(spec);
-    if spec.refinement.is_none() {
-        // No round was needed: the spec still records the refinement (and boundary.json is written).
-        spec.refinement = Some(Refinement {
-            axes: axes.to_vec(),
-            rounds: Vec::new(),
-        });
-        dir.set_spec(spec)?;
+    limits: Limits,
+) -> anyhow::Result<ExitCode> {
+    let records = dir.records(&spec);
+    let missing = records.iter().filter(|r| !r.status.has_file()).count();
+    if missing > 0 {
+        bail!(
+            "refine --plan: {missing} replica(s) of {} are not finished; run them first (edmd refine {} --shard K/N, or without --shard)",
+            a.out.display(),
+            a.out.display()
+        );
     }
-    dir.write_index(spec, &records)?;
-    print!("{}", render(&phase_table(spec, &records), a.format.into()));
-    let spent = edmd_sweep::refine::refinement_replicas(spec);
-    let full = edmd_sweep::refine::full_grid_replicas(spec, axes, edmd_sweep::refine::rounds(spec));
-    eprintln!(
-        "refine: {} round(s), {} replicas in all ({} added); the full grid of the same resolution holds {} ({:.0} %); boundary in {}",
-        edmd_sweep::refine::rounds(spec),
-        records.len(),
-        spent,
-        full,
-        100.0 * records.len() as f64 / full.max(1) as f64,
-        a.out.join("boundary.json").display()
-    );
-    Ok(())
+    dir.write_index(&spec, &records)?;
+    let log = Printed {
+        out: &a.out,
+        shard: None,
+    };
+    if let Some(next) = refine_rounds::next_round(&spec, &records, axes, limits, &log)? {
+        dir.set_spec(&next)?;
+        eprintln!("{}", refine_rounds::round_line(&next, limits));
+        return Ok(ExitCode::SUCCESS);
+    }
+    let records = refine_rounds::finish(dir, &mut spec, axes)?;
+    say_finished(a, &spec, &records, axes);
+    Ok(ExitCode::SUCCESS)
+}
+
+/// The phase table of the refined sweep, and what it cost against the full grid.
+fn say_finished(a: &RefineArgs, spec: &Spec, records: &[Record], axes: &[RefineAxis]) {
+    print!("{}", render(&phase_table(spec, records), a.format.into()));
+    eprintln!("{}", refine_rounds::cost_line(spec, records, axes, &a.out));
 }

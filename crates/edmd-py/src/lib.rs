@@ -25,5 +25,6 @@ fn native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_class::<Simulation>()?;
     m.add_function(wrap_pyfunction!(sweep::run_sweep_json, m)?)?;
+    m.add_function(wrap_pyfunction!(sweep::refine_json, m)?)?;
     Ok(())
 }

@@ -21,6 +21,7 @@ pub mod merge;
 pub mod output;
 pub mod record;
 pub mod refine;
+pub mod refine_rounds;
 pub mod replica;
 pub use replica::checkpoint;
 pub mod run;

@@ -7,15 +7,16 @@
     sim.positions, sim.velocities, sim.temperature
     sim.set_rule(eps=0.7); sim.run(until_temperature=0.01)
     table = edmd.run_sweep(spec, "out", threads=2)     # the phase table as a DataFrame
+    table = edmd.refine("out", rounds=2)               # bisected where the regimes differ
 """
 
 import json
 import os
 import sys
 
-from ._native import Simulation, __version__, run_sweep_json
+from ._native import Simulation, __version__, refine_json, run_sweep_json
 
-__all__ = ["Simulation", "run_sweep", "__version__"]
+__all__ = ["Simulation", "refine", "run_sweep", "__version__"]
 
 
 def _spec_text(spec):
@@ -71,10 +72,26 @@ def run_sweep(spec, out, threads=None, force=False, shard=None, progress=True):
     Ctrl-C stops the run with each replica in flight checkpointed and raises KeyboardInterrupt;
     calling ``run_sweep`` again goes on from there. A bad spec raises ValueError with the line the
     command prints."""
+    return _table(lambda callback: run_sweep_json(_spec_text(spec), os.fspath(out), threads, force, shard,
+                                                  callback), progress)
+
+
+def refine(out, rounds=3, budget=None, axes=None, threads=None, progress=True):
+    """Refines the classified sweep in ``out`` (written by :func:`run_sweep` or ``edmd run``) as
+    ``edmd refine`` does, writing the same files: rounds of bisection where neighbouring grid
+    points differ in regime, up to ``rounds`` rounds in all (a second call goes on to that many),
+    adding at most ``budget`` replicas, along ``axes`` (e.g. ``["eps", "box"]``; default those the
+    grid varies). Returns the refined phase table as a DataFrame; ``boundary.json`` in ``out``
+    holds the boundary. ``progress`` and Ctrl-C as in :func:`run_sweep`."""
+    return _table(lambda callback: refine_json(os.fspath(out), rounds, budget, axes, threads, callback), progress)
+
+
+def _table(call, progress):
+    """Runs ``call(callback)`` with the progress asked for; its JSON table as a DataFrame."""
     bar = _Bar() if progress is True else None
     callback = bar if bar is not None else (progress or None)
     try:
-        rows = json.loads(run_sweep_json(_spec_text(spec), os.fspath(out), threads, force, shard, callback))
+        rows = json.loads(call(callback))
     finally:
         if bar is not None:
             bar.close()

@@ -62,3 +62,11 @@ def run_sweep_json(
     shard: Optional[str] = None,
     progress: Optional[Callable[[int, int, int, int], object]] = None,
 ) -> str: ...
+def refine_json(
+    out: str | PathLike[str],
+    rounds: int = 3,
+    budget: Optional[int] = None,
+    axes: Optional[list[str]] = None,
+    threads: Optional[int] = None,
+    progress: Optional[Callable[[int, int, int, int], object]] = None,
+) -> str: ...
