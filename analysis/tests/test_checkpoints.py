@@ -64,7 +64,7 @@ def test_a_signalled_refinement_resumes_bit_identical(tmp_path, capsys):
     from conftest import run_edmd
 
     spec = {"name": "rf", "seed": 5, "grid": {"eps": [0.6, 1.0], "phi": 0.25, "box": [40, 80, 160]},
-            "stop": {"tau_max": 600}, "samples": {"every": 5, "per_decade": 0}, "classify": {},
+            "stop": {"tau_max": 300}, "samples": {"every": 5, "per_decade": 0}, "classify": {},
             "checkpoint": {"every_s": 0, "every_tau": 10}}
     (tmp_path / "rf.json").write_text(json.dumps(spec))
     run_edmd("run", tmp_path / "rf.json", "-o", tmp_path / "a", "-q")
