@@ -238,3 +238,19 @@ def test_refine_writes_what_the_command_writes(capsys, tmp_path):
     assert len(table) > 4 and (tmp_path / "b" / "boundary.json").exists()
     with pytest.raises(ValueError, match="unknown axis"):
         edmd.refine(tmp_path / "b", axes=["zeta"])
+
+
+def test_a_sheared_runs_stress_is_the_files(ran):
+    """run() over one sampling interval of the sheared replica returns the pressure tensor and
+    dissipation rate the file holds for that interval, bit for bit."""
+    sim = edmd.Simulation.from_spec(SPEC, replica=4)
+    with h5py.File(ran / "cli" / "replicas" / "r00004.h5", "r") as f:
+        tau = f["observables/tau/value"][()]
+        pressure = f["observables/pressure_tensor/value"][()]
+        dissipation = f["observables/dissipation_rate/value"][()]
+    sim.run(tau=tau[1])
+    for k in (2, 3):
+        interval = sim.run(tau=tau[k])
+        np.testing.assert_array_equal(interval["pressure_tensor"], pressure[k])
+        assert interval["dissipation_rate"] == dissipation[k]
+    assert interval["pressure_tensor"][0][1] < 0, "a positive shear rate: P_xy < 0"

@@ -9,6 +9,7 @@ use pyo3::prelude::*;
 mod chunks;
 mod configuration;
 mod simulation;
+mod stress;
 mod sweep;
 
 pub use simulation::Simulation;

@@ -14,6 +14,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::chunks::Chunks;
+use crate::stress::sheared_stress;
 use crate::{configuration, value_error};
 
 enum Inner {
@@ -190,7 +191,9 @@ impl Simulation {
     /// `collisions` as a limit, or alone). The GIL is released while the engine runs; Ctrl-C
     /// stops it between two events within a fraction of a second and leaves the simulation
     /// usable. Returns what the interval measured: the compressibility factor Z = pV/(NT) from
-    /// the collisions' virial, the collision frequency per particle and the time run.
+    /// the collisions' virial, the collision frequency per particle and the time run; in a
+    /// sheared box also the pressure tensor (kinetic at the end plus collisional over the
+    /// interval, D × D) and the dissipation rate per unit volume, as the files sample them.
     #[pyo3(signature = (tau = None, collisions = None, until_temperature = None))]
     fn run<'py>(
         &self,
@@ -218,6 +221,9 @@ impl Simulation {
             }
         }
         let meter = with_engine!(&*self.lock(), e => VirialMeter::start(&**e));
+        if self.replica.sheared() {
+            with_engine!(&mut *self.lock(), e => e.restart_shear_sums());
+        }
         let mut chunks = Chunks::new(
             self.replica.n,
             now,
@@ -240,6 +246,14 @@ impl Simulation {
         d.set_item("z", reading.z)?;
         d.set_item("collision_frequency", reading.nu)?;
         d.set_item("duration", reading.duration)?;
+        if self.replica.sheared() {
+            let (p, dissipation) = match &*self.lock() {
+                Inner::D2(e) => sheared_stress(&**e, reading.duration),
+                Inner::D3(e) => sheared_stress(&**e, reading.duration),
+            };
+            d.set_item("pressure_tensor", p)?;
+            d.set_item("dissipation_rate", dissipation)?;
+        }
         Ok(d)
     }
 

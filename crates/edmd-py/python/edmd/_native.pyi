@@ -19,7 +19,7 @@ class Simulation:
         tau: Optional[float] = None,
         collisions: Optional[int] = None,
         until_temperature: Optional[float] = None,
-    ) -> dict[str, float]: ...
+    ) -> dict[str, Any]: ...
     def set_rule(
         self,
         eps: Optional[float] = None,
