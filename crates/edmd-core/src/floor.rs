@@ -61,11 +61,11 @@ impl Flight {
     pub fn first_contact(&self, floor: &Floor, horizon: f64) -> Option<f64> {
         let gap = |t: f64| self.height(t) - floor.height(t);
         let (start, end) = self.band_window(floor.amplitude, horizon)?;
-        let mut cuts = vec![start];
-        cuts.extend(inflections(floor, self.g, start, end));
-        cuts.push(end);
-        for piece in cuts.windows(2) {
-            let (a, b) = (piece[0], piece[1]);
+        // The pieces between consecutive cuts (start, the inflections, end), in order; no
+        // allocation, as this runs at every flight that can reach the floor.
+        let mut a = start;
+        let mut cuts = Inflections::new(floor, self.g, start, end).chain(std::iter::once(end));
+        while let Some(b) = cuts.next() {
             if b <= a {
                 continue;
             }
@@ -80,6 +80,7 @@ impl Flight {
             if gap(low) < 0.0 {
                 return Some(self.refine(floor, a, low));
             }
+            a = b;
         }
         None
     }
@@ -116,26 +117,40 @@ impl Flight {
         (t >= 0.0).then_some(t)
     }
 
-    /// The time of the gap's minimum on [a, b], where it is convex (h' increasing): h' = 0 by
-    /// bisection, or an end.
+    /// On [a, b], where the gap is convex (h' increasing) and h(a) ≥ 0: a time at which it is
+    /// below the floor, if there is one, else any time (where it is not). Bisects h' = 0 for the
+    /// minimum, but stops as soon as a probe is below the floor or the two tangents at the
+    /// bracket's ends, which bound a convex function from below, meet above it.
     fn lowest_on(&self, floor: &Floor, a: f64, b: f64) -> f64 {
+        let gap = |t: f64| self.height(t) - floor.height(t);
         let slope = |t: f64| self.v0 - self.g * t - floor.speed(t);
-        if slope(a) >= 0.0 {
+        let (mut lo, mut hi) = (a, b);
+        let (mut s_lo, mut s_hi) = (slope(lo), slope(hi));
+        if s_lo >= 0.0 {
             return a;
         }
-        if slope(b) <= 0.0 {
+        let (mut h_lo, mut h_hi) = (gap(lo), gap(hi));
+        if s_hi <= 0.0 || h_hi < 0.0 {
             return b;
         }
-        let (mut lo, mut hi) = (a, b);
         for _ in 0..200 {
+            // The tangents h_lo + s_lo (t − lo) and h_hi + s_hi (t − hi) meet at their lowest.
+            let meet = (h_hi - h_lo + s_lo * lo - s_hi * hi) / (s_lo - s_hi);
+            if h_lo + s_lo * (meet - lo) >= 0.0 {
+                return hi; // no root: the gap there is ≥ 0
+            }
             let mid = 0.5 * (lo + hi);
             if mid <= lo || mid >= hi {
                 break;
             }
-            if slope(mid) < 0.0 {
-                lo = mid;
+            let (h_mid, s_mid) = (gap(mid), slope(mid));
+            if h_mid < 0.0 {
+                return mid;
+            }
+            if s_mid < 0.0 {
+                (lo, h_lo, s_lo) = (mid, h_mid, s_mid);
             } else {
-                hi = mid;
+                (hi, h_hi, s_hi) = (mid, h_mid, s_mid);
             }
         }
         hi
@@ -176,25 +191,53 @@ impl Flight {
 
 /// The inflection times of the gap in (start, end), in order: sin(ωt + φ₀) = g/(Aω²) (none when
 /// Γ = Aω²/g ≤ 1: the gap is concave throughout).
-fn inflections(floor: &Floor, g: f64, start: f64, end: f64) -> Vec<f64> {
-    let peak = floor.amplitude * floor.omega.powi(2);
-    if peak <= g || !end.is_finite() {
-        return Vec::new();
-    }
-    let s = (g / peak).asin();
-    let w = floor.omega;
-    let mut out = Vec::new();
-    // Phases s and π − s, every period from the one holding `start`.
-    let first = ((w * start + floor.phase - PI) / (2.0 * PI)).floor() - 1.0;
-    let mut k = first;
-    loop {
-        let base = 2.0 * PI * k - floor.phase;
-        let ts = [(base + s) / w, (base + PI - s) / w];
-        if ts[0] >= end {
-            break;
+struct Inflections {
+    /// The two phases s and π − s within a period, as times of period k = 0 (before `- phase/ω`).
+    offsets: [f64; 2],
+    omega: f64,
+    phase: f64,
+    /// The period and which of its two inflections comes next.
+    k: f64,
+    which: usize,
+    start: f64,
+    end: f64,
+}
+
+impl Inflections {
+    fn new(floor: &Floor, g: f64, start: f64, end: f64) -> Self {
+        let peak = floor.amplitude * floor.omega.powi(2);
+        let w = floor.omega;
+        let none = peak <= g || !end.is_finite();
+        let s = if none { 0.0 } else { (g / peak).asin() };
+        Inflections {
+            offsets: [s, PI - s],
+            omega: w,
+            phase: floor.phase,
+            // Every period from the one holding `start`.
+            k: ((w * start + floor.phase - PI) / (2.0 * PI)).floor() - 1.0,
+            which: 0,
+            start,
+            end: if none { f64::NEG_INFINITY } else { end },
         }
-        out.extend(ts.into_iter().filter(|&t| t > start && t < end));
-        k += 1.0;
     }
-    out
+}
+
+impl Iterator for Inflections {
+    type Item = f64;
+
+    fn next(&mut self) -> Option<f64> {
+        loop {
+            let t = (2.0 * PI * self.k - self.phase + self.offsets[self.which]) / self.omega;
+            if t >= self.end || self.end == f64::NEG_INFINITY {
+                return None;
+            }
+            self.which ^= 1;
+            if self.which == 0 {
+                self.k += 1.0;
+            }
+            if t > self.start {
+                return Some(t);
+            }
+        }
+    }
 }

@@ -67,8 +67,8 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                 self.predict::<S>(i);
                 EventKind::Stale(id)
             }
-            Event::Aux(Aux::Wall { axis, .. }) => {
-                self.wall(i, axis as usize);
+            Event::Aux(Aux::Wall { axis, up }) => {
+                self.wall(i, axis as usize, up);
                 self.predict::<S>(i);
                 self.monitor.forget_pair();
                 EventKind::Wall(id)

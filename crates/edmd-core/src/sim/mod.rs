@@ -42,12 +42,14 @@ mod shear;
 mod system;
 mod thermostat;
 mod upkeep;
+mod vibrating_floor;
 
 use collapse::CollapseMonitor;
 use neighbours::{neighbour_search, CellGrid, Cells, Lists, NeighbourLists, Search, NONE};
 use shear::Shear;
 use system::SystemEvent;
 use thermostat::Thermostat;
+use vibrating_floor::VibratingFloor;
 
 pub use collapse::{Collapse, CollapseReason};
 pub use engine::Engine;
@@ -190,6 +192,9 @@ pub struct Counters {
     /// one sample interval keeps the interval's own precision, where a running total would round
     /// away the small losses of a cold gas against the large ones of its start.
     pub dissipated: f64,
+    /// A vibrating floor's work: the kinetic energy its contacts gave the grains (negative where
+    /// they took more than they gave), since the start, in the simulation's units.
+    pub floor_work: f64,
 }
 
 /// An event-driven simulation of hard disks (`D = 2`) or spheres (`D = 3`) in a box with boundary
@@ -232,6 +237,8 @@ pub struct Simulation<const D: usize, B: Boundary, R: CollisionRule, C: Calendar
     pub(crate) shear: Shear,
     /// The white-noise thermostat's kicks (none by default).
     pub(crate) thermostat: Thermostat,
+    /// Gravity scenes: the floor's vibration (still by default).
+    pub(crate) vibration: VibratingFloor,
     _boundary: PhantomData<B>,
 }
 
@@ -261,6 +268,12 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             })
             .chain(SystemEvent::ALL.map(SystemEvent::record))
             .collect();
+        let vibration = VibratingFloor::new(
+            params.floor_amplitude,
+            params.floor_omega,
+            0.5 * max_d,
+            grid.side[D - 1],
+        );
         let mut sim = Simulation {
             // Same size and alignment: the conversion reuses the allocation.
             particles: particles
@@ -300,6 +313,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                 params.kick_interval,
                 params.kick_conserves_momentum,
             ),
+            vibration,
             _boundary: PhantomData,
         };
         sim.shear = Shear::new::<B>(sim.params.shear_rate, box_len[1], sim.grid.side[0]);
@@ -347,6 +361,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             look_ahead: self.look_ahead,
             shear: self.shear,
             thermostat: self.thermostat,
+            vibration: self.vibration,
             _boundary: PhantomData,
         }
     }

@@ -35,6 +35,12 @@ pub struct SimParams {
     /// (normal speed Rayleigh-distributed, tangential components Gaussian; spins kept). Needs walls on
     /// the last axis; it replaces that wall's restitution.
     pub floor_temperature: f64,
+    /// A vibrating floor's amplitude A (0, the default, for a floor that stands still): under
+    /// gravity the floor of the last axis moves as z_w(t) = A (1 − cos ωt), from its lowest point
+    /// at time 0 (PHYSICS.md §8.2). Grains meet it with the wall's restitution in its own frame.
+    pub floor_amplitude: f64,
+    /// The vibrating floor's angular frequency ω (> 0; default 1).
+    pub floor_omega: f64,
     /// The shear rate `a` of a [`crate::LeesEdwards`] scene (flow u_x = a (y − L_y/2)), ≥ 0; must
     /// be 0 elsewhere (default 0).
     pub shear_rate: f64,
@@ -61,6 +67,8 @@ impl Default for SimParams {
             wall_threshold: 0.0,
             neighbour_skin: 0.0,
             floor_temperature: 0.0,
+            floor_amplitude: 0.0,
+            floor_omega: 1.0,
             shear_rate: 0.0,
             white_noise: 0.0,
             kick_interval: 1.0,
@@ -72,7 +80,19 @@ impl Default for SimParams {
 impl SimParams {
     /// Checks every field against its domain; the error names the field and the value.
     pub fn validate(&self) -> Result<(), EdmdError> {
-        let checks: [(&'static str, f64, bool, &str); 11] = [
+        let checks: [(&'static str, f64, bool, &str); 13] = [
+            (
+                "floor_amplitude",
+                self.floor_amplitude,
+                self.floor_amplitude >= 0.0 && self.floor_amplitude.is_finite(),
+                "must be ≥ 0 and finite (0: a floor that stands still)",
+            ),
+            (
+                "floor_omega",
+                self.floor_omega,
+                self.floor_omega > 0.0 && self.floor_omega.is_finite(),
+                "must be > 0 and finite",
+            ),
             (
                 "white_noise",
                 self.white_noise,

@@ -2,9 +2,10 @@
 //!
 //! Everything the next event depends on is kept as it is in memory: the trajectories, the event
 //! slots, the calendar with its buckets, the cell heads, the neighbour lists, the clocks and the
-//! velocity scale, the counters, the random stream and the collapse monitor. A simulation loaded
-//! from it therefore goes on bit for bit as the saved one would have, wherever it was stopped
-//! between two events, with no rebuild that could file two equal times in another order. What the
+//! velocity scale, the counters, the random stream, the collapse monitor and a vibrating floor's
+//! phase. A simulation loaded from it therefore goes on bit for bit as the saved one would have,
+//! wherever it was stopped between two events, with no rebuild that could file two equal times in
+//! another order. What the
 //! spec fixes (the box, the rule, the parameters) is not kept: the loader is a simulation built
 //! from the same spec, and the saved box and particle count are checked against it. The encoding
 //! is postcard's (little-endian floats, variable-length integers).
@@ -14,12 +15,12 @@ use serde::{Deserialize, Serialize};
 
 use super::collapse::CollapseMonitor;
 use super::neighbours::NeighbourLists;
-use super::{Counters, Meta, Shear, Simulation, Thermostat};
+use super::{Counters, Meta, Shear, Simulation, Thermostat, VibratingFloor};
 use crate::calendar::Calendar;
 use crate::{Boundary, CollisionRule, EdmdError, Particle, Vector};
 
 /// The version of the layout below; a state of another version is refused.
-pub const STATE_VERSION: u32 = 2;
+pub const STATE_VERSION: u32 = 3;
 
 /// Fixed-size arrays of any length as a serde tuple (serde itself covers lengths up to 32, and
 /// not a length that is a const parameter).
@@ -80,6 +81,7 @@ struct Saving<'a, const D: usize, S, C> {
     maintenance: (u64, u64, f64),
     shear: &'a Shear,
     thermostat: &'a Thermostat,
+    vibration: &'a VibratingFloor,
 }
 
 /// The state as it is read: the same fields, in the same order, owned.
@@ -101,6 +103,7 @@ struct Loading<const D: usize, S, C> {
     maintenance: (u64, u64, f64),
     shear: Shear,
     thermostat: Thermostat,
+    vibration: VibratingFloor,
 }
 
 fn refused(reason: impl Into<String>) -> EdmdError {
@@ -137,6 +140,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             ),
             shear: &self.shear,
             thermostat: &self.thermostat,
+            vibration: &self.vibration,
         };
         // Sized up front: growing by doubling copied the state several times (docs/benchmarks.md).
         let buffer = Vec::with_capacity(self.heap_bytes());
@@ -201,6 +205,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         ) = s.maintenance;
         self.shear = s.shear;
         self.thermostat = s.thermostat;
+        self.vibration = s.vibration;
         Ok(())
     }
 }

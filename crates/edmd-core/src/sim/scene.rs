@@ -70,11 +70,48 @@ pub(super) fn check_scene<const D: usize, B: Boundary>(
             "a thermal floor needs walls on the last axis",
         ));
     }
+    if params.floor_amplitude > 0.0 {
+        check_vibrating_floor::<D, B>(box_len, params)?;
+    }
     if B::GRAVITY && !B::is_wall(D - 1) {
         return Err(EdmdError::invalid(
             "scene",
             B::NAME,
             "gravity needs walls (a floor) on the last axis",
+        ));
+    }
+    Ok(())
+}
+
+/// A vibrating floor needs gravity, a top above its stroke, no thermal floor, and a wall contact
+/// that can neither stop a grain on it nor let its bounces die away (PHYSICS.md §8.2).
+fn check_vibrating_floor<const D: usize, B: Boundary>(
+    box_len: &Vector<D>,
+    params: &SimParams,
+) -> Result<(), EdmdError> {
+    let amplitude = params.floor_amplitude;
+    let refuse = |reason| Err(EdmdError::invalid("floor_amplitude", amplitude, reason));
+    if !B::GRAVITY || params.gravity <= 0.0 {
+        return refuse("a vibrating floor needs a gravity scene with gravity > 0");
+    }
+    if params.floor_temperature > 0.0 {
+        return refuse("a floor either vibrates or is thermal, not both");
+    }
+    if 2.0 * amplitude >= box_len[D - 1] {
+        return refuse("the floor's stroke 2A must stay below the box's top");
+    }
+    if params.wall_epsilon == 0.0 {
+        return Err(EdmdError::invalid(
+            "wall_epsilon",
+            0.0,
+            "a vibrating floor needs a wall restitution > 0 (at 0 a grain rides it in contacts without end)",
+        ));
+    }
+    if params.wall_epsilon < 1.0 && params.wall_threshold <= 0.0 {
+        return Err(EdmdError::invalid(
+            "wall_threshold",
+            params.wall_threshold,
+            "an inelastic vibrating floor needs a threshold > 0, below which contacts are elastic (else a resting grain's bounces die away in contacts without end)",
         ));
     }
     Ok(())
@@ -167,6 +204,9 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             )
         };
         let t_up = rise_time(x, u, g, up_target);
+        if self.vibration.reaches(c[a]) {
+            return self.vibrating_fall_exit(p, c[a], (x, u), (t_up, up_code));
+        }
         let t_down = fall_time(x, u, g, down_target);
         if t_up < t_down {
             (now + t_up, up_code)
@@ -193,9 +233,14 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         }
     }
 
-    /// Specular reflection of particle `i` at a wall normal to `axis`, with the wall's restitution.
+    /// Specular reflection of particle `i` at a wall normal to `axis` (the upper one if `up`), with
+    /// the wall's restitution; under gravity the floor may vibrate (`sim/vibrating_floor.rs`).
     #[inline]
-    pub(super) fn wall(&mut self, i: usize, axis: usize) {
+    pub(super) fn wall(&mut self, i: usize, axis: usize, up: bool) {
+        if B::GRAVITY && axis == D - 1 && !up && self.vibration.moves() {
+            self.vibrating_floor_contact(i);
+            return;
+        }
         let now = self.now;
         let gravity = if B::GRAVITY && axis == D - 1 {
             self.params.gravity
@@ -300,6 +345,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     /// The trajectories' part of a clock rebase to local time `now`: origins (and, under gravity,
     /// the velocity at the origin) moved so that every grain is where it was.
     pub(super) fn rebase_trajectories(&mut self, now: f64) {
+        self.vibration.rebase(now);
         let g = self.params.gravity;
         for p in &mut self.particles {
             p.r0 = p.at(now);

@@ -21,6 +21,7 @@ mod ratio;
 mod regress_round_off_contact;
 mod rough;
 mod rough_cooling;
+mod shaken_bed;
 mod shear_rheology;
 mod single_ball;
 mod single_collision;
