@@ -247,7 +247,7 @@ bench-accuracy: deps
 
 
 validate:
-	$(CARGO) test --release -p edmd-core --test engine -- --ignored --nocapture --test-threads 1 equilibrium:: floor_contact:: rough_cooling:: lees_edwards_rules:: white_noise::the_steady_state_matches_the_theory_at_every_alpha haff::disks_dilute_at_every_eps mixture::
+	$(CARGO) test --release -p edmd-core --test engine -- --ignored --nocapture --test-threads 1 equilibrium:: floor_contact:: shaken_bed:: rough_cooling:: lees_edwards_rules:: white_noise::the_steady_state_matches_the_theory_at_every_alpha haff::disks_dilute_at_every_eps mixture::
 	$(CARGO) test --release -p edmd-sweep --test regimes -- --ignored --nocapture
 
 clean:

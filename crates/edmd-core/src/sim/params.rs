@@ -37,7 +37,7 @@ pub struct SimParams {
     pub floor_temperature: f64,
     /// A vibrating floor's amplitude A (0, the default, for a floor that stands still): under
     /// gravity the floor of the last axis moves as z_w(t) = A (1 − cos ωt), from its lowest point
-    /// at time 0 (PHYSICS.md §8.2). Grains meet it with the wall's restitution in its own frame.
+    /// at time 0 (PHYSICS.md §8.3). Grains meet it with the wall's restitution in its own frame.
     pub floor_amplitude: f64,
     /// The vibrating floor's angular frequency ω (> 0; default 1).
     pub floor_omega: f64,

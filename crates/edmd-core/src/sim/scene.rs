@@ -84,7 +84,7 @@ pub(super) fn check_scene<const D: usize, B: Boundary>(
 }
 
 /// A vibrating floor needs gravity, a top above its stroke, no thermal floor, and a wall contact
-/// that can neither stop a grain on it nor let its bounces die away (PHYSICS.md §8.2).
+/// that can neither stop a grain on it nor let its bounces die away (PHYSICS.md §8.3).
 fn check_vibrating_floor<const D: usize, B: Boundary>(
     box_len: &Vector<D>,
     params: &SimParams,

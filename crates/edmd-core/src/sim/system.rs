@@ -1,6 +1,7 @@
 //! System events: the calendar's entries beside the N particles' own, for what happens to the
 //! whole system at a time of its own: the shift of a sheared box's sliding images, the white-noise
-//! thermostat's kick; next a moving floor's phase.
+//! thermostat's kick. (A vibrating floor's phase is a function of the local clock, moved on at
+//! each rebase: no event of its own.)
 //!
 //! Each kind owns one slot after the particles' (`Meta` records N, N + 1, …), whose event is an
 //! auxiliary one, [`Aux::System`]: the step decodes it like any other and hands it to

@@ -1,9 +1,9 @@
-//! A floor that vibrates under gravity (PHYSICS.md §8.2): z_w(t) = A + A sin(ωt + φ), so that in
+//! A floor that vibrates under gravity (PHYSICS.md §8.3): z_w(t) = A + A sin(ωt + φ), so that in
 //! the box's coordinates it moves between 0 and 2A and starts at its lowest point (φ = −π/2 at
 //! time 0, at rest). Its contact with a grain's parabolic flight is the exact first root of
 //! [`crate::floor`]; a contact reflects the grain in the floor's frame with the wall's
 //! restitution, elastically below `wall_threshold` (the treatment of grains that would come to
-//! rest on the floor, §8.2: they keep bouncing with a speed about the threshold relative to it).
+//! rest on the floor, §8.3: they keep bouncing with a speed about the threshold relative to it).
 //!
 //! Only cells whose lower face lies below the floor's top plus the largest radius can hold a grain
 //! that touches it; [`VibratingFloor::cells`] counts those layers, 0 for a floor that stands still,

@@ -1,4 +1,4 @@
-//! The energy a vibrating floor puts into a gas resting on it (PHYSICS.md §8.2).
+//! The energy a vibrating floor puts into a gas resting on it (PHYSICS.md §8.3).
 //!
 //! An elastic floor moving with speed u sends a grain that meets it with vertical speed v < u
 //! back with 2u − v: it gains 2m(u² − uv). Grains meet it at the rate n (u − v) f(v) per unit

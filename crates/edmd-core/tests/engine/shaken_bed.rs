@@ -1,4 +1,4 @@
-//! A bed of grains on a vibrating floor under gravity (`sim/vibrating_floor.rs`, PHYSICS.md §8.2):
+//! A bed of grains on a vibrating floor under gravity (`sim/vibrating_floor.rs`, PHYSICS.md §8.3):
 //! no grain is ever below the floor, the floor's work is the only change of an elastic bed's
 //! energy, and a bed shaken below lift-off (Γ < 1), whose bottom grains would rest on the floor,
 //! runs to its end.
@@ -127,7 +127,7 @@ fn an_elastic_bed_gains_exactly_the_floors_work() {
 
 /// Γ = 0.8 (A = 0.2, ω = 2): the floor never accelerates downwards faster than g, so grains that
 /// land on it would rest there and, with an inelastic floor, bounce in ever shorter hops. The
-/// threshold keeps their hops elastic (PHYSICS.md §8.2), and the bed, settled and riding the floor
+/// threshold keeps their hops elastic (PHYSICS.md §8.3), and the bed, settled and riding the floor
 /// as a whole, runs to its τ_max. (Its cost is that of any settled pile in event-driven dynamics:
 /// millions of pair collisions per unit time in its tiny gaps, `gravity.rs`.)
 #[test]
@@ -212,7 +212,7 @@ fn a_vibrating_floor_refuses_what_would_stall_it() {
 
 /// An elastic floor shaking a gas of 1000 nearly elastic disks (α = 0.99) 200 wide under g = 0.05
 /// (Aω = 0.2, ω = 10: a period of 0.63 against flights of about 2√T/g ≈ 25): in the steady state
-/// the floor's measured power equals the theory of PHYSICS.md §8.2, M g (Aω)² √(2m/(π T_z)) to
+/// the floor's measured power equals the theory of PHYSICS.md §8.3, M g (Aω)² √(2m/(π T_z)) to
 /// leading order, at the vertical temperature T_z measured within one diameter above the floor's
 /// top. The relation rests on the contact theorem (the floor carries the weight, n_contact T_z =
 /// M g / area, whatever the density) and on a Maxwellian at the floor; the Maxwellian average is
@@ -265,4 +265,35 @@ fn an_elastic_floor_puts_in_the_power_of_theory() {
         sim.counters().wall_collisions
     );
     assert!((mean - 1.0).abs() < 0.05, "P/theory = {mean} ± {error}");
+}
+
+/// A checkpoint keeps the floor's phase: a shaken bed loaded from a saved state goes on bit for
+/// bit as the one that saved it, across clock rebases (each of which moves the phase on).
+#[test]
+fn a_shaken_bed_resumes_bit_for_bit_from_its_state() {
+    let build = || bed::<2, Column>(240, (40.0, 200.0), (1.0, 2.0), (0.9, 0.9), 6);
+    let mut saved = build();
+    saved.run(Stop::Tau(50.0));
+    let bytes = saved.save_state();
+    saved.run(Stop::Tau(100.0));
+    let mut loaded = build();
+    loaded.load_state(&bytes).unwrap();
+    loaded.run(Stop::Tau(100.0));
+    assert!(saved.counters().maintenances > 10);
+    let bits = |s: &Simulation<2, Column, Rule>| {
+        let mut out: Vec<u64> = s
+            .positions()
+            .iter()
+            .flat_map(|x| x.iter().map(|c| c.to_bits()).collect::<Vec<_>>())
+            .collect();
+        out.extend(
+            s.velocities()
+                .iter()
+                .flat_map(|v| v.iter().map(|c| c.to_bits()).collect::<Vec<_>>()),
+        );
+        out.push(s.floor_height().to_bits());
+        out.push(s.counters().floor_work.to_bits());
+        out
+    };
+    assert_eq!(bits(&saved), bits(&loaded));
 }
