@@ -64,8 +64,8 @@ impl Flight {
         // The pieces between consecutive cuts (start, the inflections, end), in order; no
         // allocation, as this runs at every flight that can reach the floor.
         let mut a = start;
-        let mut cuts = Inflections::new(floor, self.g, start, end).chain(std::iter::once(end));
-        while let Some(b) = cuts.next() {
+        let cuts = Inflections::new(floor, self.g, start, end).chain(std::iter::once(end));
+        for b in cuts {
             if b <= a {
                 continue;
             }

@@ -43,9 +43,33 @@ pub fn floor_power_leading(weight: f64, mass: f64, t_z: f64, a_omega: f64) -> f6
     weight * a_omega * a_omega * (2.0 * mass / (PI * t_z)).sqrt()
 }
 
+/// The temperature of a dilute 2D bed of disks (diameter `sigma`, mass `mass`, restitution
+/// `alpha`, `layers` grains per unit floor length) on an elastic floor of speed amplitude
+/// `a_omega`, if it were isothermal (PHYSICS.md §8.3): the floor's power to leading order equals
+/// the Haff losses of the barometric column, T = 2√2 m (Aω)² / (π k σ ν), k the Haff rate per
+/// τ. It does not depend on g, which sets only the column's height T/(m g).
+pub fn dilute_bed_temperature(sigma: f64, mass: f64, alpha: f64, layers: f64, a_omega: f64) -> f64 {
+    let k = super::haff_rate(2, alpha);
+    2.0 * SQRT_2 * mass * a_omega * a_omega / (PI * k * sigma * layers)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The isothermal bed's balance, term by term: the leading-order power against the Haff
+    /// losses of the barometric column, k n² σ √(π T/m) T summed over heights (n₀² ℓ/2).
+    #[test]
+    fn the_bed_temperature_balances_power_and_losses() {
+        let (sigma, mass, alpha, layers, a_omega, g) = (1.0, 2.0, 0.95, 4.0, 0.3, 0.1);
+        let t = dilute_bed_temperature(sigma, mass, alpha, layers, a_omega);
+        let ell = t / (mass * g);
+        let n0 = layers / ell;
+        let k = crate::theory::haff_rate(2, alpha);
+        let losses = k * sigma * (PI * t / mass).sqrt() * t * n0 * n0 * ell / 2.0;
+        let power = floor_power_leading(layers * mass * g, mass, t, a_omega);
+        assert!((losses / power - 1.0).abs() < 1e-12, "{losses} {power}");
+    }
 
     #[test]
     fn the_full_power_tends_to_the_leading_order() {

@@ -8,7 +8,7 @@ pub use bouncing_ball::{
     lift_off_phase, one_period_gamma, one_period_take_off, period_doubling_gamma,
 };
 mod floor_heating;
-pub use floor_heating::{floor_power, floor_power_leading};
+pub use floor_heating::{dilute_bed_temperature, floor_power, floor_power_leading};
 mod gravity;
 mod mixture;
 pub use gravity::{barometric_floor, barometric_phi_max, barometric_profile};
