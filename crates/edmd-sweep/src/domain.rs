@@ -186,6 +186,22 @@ pub const WHITE_NOISE: Domain = Domain::new(
     false,
     "white-noise strength must lie in (0, 1e12]",
 );
+/// The shaking strength S = A²ω²/(g d) of a vibrating floor.
+pub const SHAKE_S: Domain = Domain::new(
+    0.0,
+    true,
+    1e6,
+    false,
+    "shaking strength S must lie in (0, 1e6]",
+);
+/// The shaking acceleration Γ = Aω²/g of a vibrating floor.
+pub const SHAKE_GAMMA: Domain = Domain::new(
+    0.0,
+    true,
+    1e6,
+    false,
+    "shaking acceleration Gamma must lie in (0, 1e6]",
+);
 /// Relative box sides.
 pub const ASPECT: Domain = Domain::new(
     0.0,
@@ -297,6 +313,8 @@ schema_fns! {
     wall_eps_axis => WALL_EPS.axis,
     floor_temperature_axis => FLOOR_TEMPERATURE.optional_axis,
     white_noise_axis => WHITE_NOISE.optional_axis,
+    shake_s_axis => SHAKE_S.optional_axis,
+    shake_gamma_axis => SHAKE_GAMMA.optional_axis,
     diameter_one => DIAMETER.one,
     mass_optional => MASS.optional,
     phi_axis => PHI.optional_axis,

@@ -188,6 +188,10 @@ record_fields! {
     floor_temperature: f64,
     /// The white-noise thermostat's strength ξ₀² (0: none).
     white_noise: f64,
+    /// A vibrating floor's shaking strength S = A²ω²/(g d) (0: a floor that stands still).
+    shake_s: f64,
+    /// A vibrating floor's peak acceleration Γ = Aω²/g (0: a floor that stands still).
+    shake_gamma: f64,
     /// Relative box sides joined by `x` (empty: square or cubic).
     aspect: String,
     /// Packing fraction.
@@ -254,6 +258,8 @@ impl Record {
             wall_eps: r.wall_eps,
             floor_temperature: r.floor_temperature,
             white_noise: r.white_noise,
+            shake_s: r.shake_s,
+            shake_gamma: r.shake_gamma,
             aspect: r
                 .aspect
                 .as_ref()

@@ -233,6 +233,9 @@ fn scene_label(r: &Record) -> String {
     if r.white_noise > 0.0 {
         parts.push(format!("noise={}", r.white_noise));
     }
+    if r.shake_s > 0.0 {
+        parts.push(format!("S={}, Gamma={}", r.shake_s, r.shake_gamma));
+    }
     if !r.aspect.is_empty() {
         parts.push(format!("aspect={}", r.aspect));
     }

@@ -10,6 +10,7 @@
 //! * `refine`: rounds that resume after SIGKILL, shards and `--plan`, refusals.
 //! * `refine_points`: points known by their parameters; axes named once; rounds of at least 1.
 //! * `scenes`: rough grains, mixtures, gravity with a thermal floor, wall restitution, boxes.
+//! * `shaken`: a bed on a vibrating floor from a spec: its parameters, observables and grains.
 //! * `sheared`: the sheared gas from a spec: files, steady state, bad specs, resume.
 //! * `spec_fuzz`: hostile spec fields get exit 0 or 1 with one line, never a panic.
 //!
@@ -24,5 +25,6 @@ mod index_writes;
 mod refine;
 mod refine_points;
 mod scenes;
+mod shaken;
 mod sheared;
 mod spec_fuzz;

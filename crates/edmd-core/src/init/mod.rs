@@ -263,6 +263,7 @@ impl<const D: usize> InitParams<D> {
                 .as_ref()
                 .map_or(self.radius, |r| r.iter().copied().fold(0.0, f64::max));
         let params = self.sim.unwrap_or_else(|| self.default_sim_params());
+        crate::sim::check_scene::<D, B>(self.n, &self.box_len, &params)?;
         let skin = params.neighbour_skin * max_d;
         if !lattice {
             // Random placement files the grains in a grid of one diameter.

@@ -57,7 +57,7 @@ pub use event::EventKind;
 pub use params::SimParams;
 pub use persist::STATE_VERSION;
 pub use run::{RunEnd, Stop};
-pub(crate) use scene::lists_possible;
+pub(crate) use scene::{check_scene, lists_possible};
 
 /// A particle's next event other than a collision, as the slot stores it: decoded once, where it
 /// is predicted, and matched once, where it is handled.

@@ -28,7 +28,7 @@ pub(super) fn list_grid_fits<const D: usize, B: Boundary>(grid: &CellGrid<D>) ->
 }
 
 /// The checks of [`super::Simulation::new`] on the box and the parameters against scene `B`.
-pub(super) fn check_scene<const D: usize, B: Boundary>(
+pub(crate) fn check_scene<const D: usize, B: Boundary>(
     n: usize,
     box_len: &Vector<D>,
     params: &SimParams,

@@ -15,6 +15,7 @@
 //! /observables/species_temperature  step [s], time [s], value [s, S]   (mixtures)
 //! /observables/density_profile  step [s], time [s], value [s, B], position [B]; theory [B] (gravity)
 //! /observables/rotational_ratio_theory  step [s], time [s], value [s]   (rough grains)
+//! /observables/floor_work, centre_of_mass_height  step [s], time [s], value [s]   (vibrating floor)
 //! /observables/pressure_tensor, pressure_tensor_kinetic  step [s], time [s], value [s, D, D]
 //! /observables/collision_frequency, dissipation_rate, box_offset  value [s]   (Lees–Edwards)
 //! /observables/velocity_profile, density_profile_y, density_profile_x  value [s, B], position [B]
@@ -358,6 +359,15 @@ fn write_observables(
             &s.time,
             &s.rotational_temperature,
         )?;
+    }
+    // A vibrating floor's work since the start and the grains' mean height (PHYSICS.md §8.3).
+    for (name, values) in [
+        ("floor_work", &s.floor_work),
+        ("centre_of_mass_height", &s.centre_of_mass_height),
+    ] {
+        if !values.is_empty() && values.len() == s.step.len() {
+            w.observable(obs, name, &s.step, &s.time, values)?;
+        }
     }
     if !s.species_temperature.is_empty() && s.species_temperature.len() == s.step.len() {
         w.observable_2d(

@@ -50,6 +50,11 @@ pub(super) fn write(p: &Group, spec: &Spec, r: &Replica, out: &Outcome) -> hdf5:
     attr_f64(p, "wall_eps", r.wall_eps)?;
     attr_f64(p, "floor_temperature", r.floor_temperature)?;
     attr_f64(p, "white_noise", r.white_noise)?;
+    attr_f64(p, "shake_s", r.shake_s)?;
+    attr_f64(p, "shake_gamma", r.shake_gamma)?;
+    let (amplitude, omega) = r.floor_motion();
+    attr_f64(p, "floor_amplitude", amplitude)?;
+    attr_f64(p, "floor_omega", if r.shaken() { omega } else { 0.0 })?;
     let aspect = r.aspect.as_ref().map(|a| crate::spec::aspect_label(a));
     attr_str(p, "aspect", &aspect.unwrap_or_default())?;
     let sides = r.sides();

@@ -122,6 +122,8 @@ pub fn read_record(path: &Path, spec_hash: &str) -> Result<Record, SweepError> {
             wall_eps: read_or(&p, "wall_eps", 1.0)?,
             floor_temperature: read_or(&p, "floor_temperature", 0.0)?,
             white_noise: read_or(&p, "white_noise", 0.0)?,
+            shake_s: read_or(&p, "shake_s", 0.0)?,
+            shake_gamma: read_or(&p, "shake_gamma", 0.0)?,
             aspect: aspect_of(&p)?,
             phi: read_f64(&p, "phi")?,
             box_side: read_f64(&p, "box_side")?,

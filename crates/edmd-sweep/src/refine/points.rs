@@ -11,7 +11,7 @@ use crate::spec::{Grid, OneOrMany, RefineAxis, Spec};
 
 /// The grid fields that are axes (a list is several values); `species` and `aspect` are axes when
 /// they hold a list of lists.
-const AXIS_FIELDS: [&str; 13] = [
+const AXIS_FIELDS: [&str; 15] = [
     "dim",
     "boundary",
     "remedy",
@@ -25,6 +25,8 @@ const AXIS_FIELDS: [&str; 13] = [
     "wall_eps",
     "floor_temperature",
     "white_noise",
+    "shake_s",
+    "shake_gamma",
 ];
 const LIST_AXIS_FIELDS: [&str; 2] = ["species", "aspect"];
 

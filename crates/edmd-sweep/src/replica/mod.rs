@@ -69,6 +69,11 @@ pub struct Series {
     pub species_temperature: Vec<Vec<f64>>,
     /// Under gravity: the number density in bins along the last axis per sample (empty otherwise).
     pub density_profile: Vec<Vec<f64>>,
+    /// On a vibrating floor: the work it has done on the grains since the start of the replica's
+    /// run (its power over an interval is the difference over the time between); empty elsewhere.
+    pub floor_work: Vec<f64>,
+    /// On a vibrating floor: the grains' mean height (empty elsewhere).
+    pub centre_of_mass_height: Vec<f64>,
     /// Order parameters (empty unless the spec has a `classify` section).
     pub order: OrderSeries,
     /// The observables of a sheared replica (empty elsewhere).
@@ -316,6 +321,18 @@ pub(crate) fn preflight(spec: &Spec, r: &Replica) -> Result<(), EdmdError> {
             (BoundaryKind::Walls, true) => p.preflight::<Container>(),
             (BoundaryKind::Channel, true) => p.preflight::<Column>(),
         }
+    }
+    let (amplitude, _) = r.floor_motion();
+    let height = *r.sides().last().expect("a box has sides");
+    if 2.0 * amplitude >= height {
+        return Err(EdmdError::invalid(
+            "shake_s",
+            r.shake_s,
+            format!(
+                "the floor's stroke 2A = 2 S d/Gamma = {} must stay below the box's height {height}",
+                2.0 * amplitude
+            ),
+        ));
     }
     let checked = match r.dim {
         2 => scene::<2>(spec, r),

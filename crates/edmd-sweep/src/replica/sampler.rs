@@ -137,6 +137,12 @@ impl<'a> Sampler<'a> {
         if self.profile_bins > 0 {
             series.density_profile.push(self.density_profile(&*sim));
         }
+        if self.r.shaken() {
+            let work = sim.counters().floor_work - self.start.floor_work;
+            series.floor_work.push(work);
+            let heights = sim.positions().iter().map(|x| x[D - 1]).sum::<f64>();
+            series.centre_of_mass_height.push(heights / self.n);
+        }
         if self.r.species.is_some() {
             series
                 .species_temperature

@@ -16,6 +16,9 @@ use crate::spec::{Replica, Spec, VelocityKind};
 
 /// Events between progress reports and checks for ceased collisions.
 const CHUNK_EVENTS: u64 = 500_000;
+/// On a vibrating floor that is not elastic, contacts slower than this times √(g d) relative to it
+/// are elastic (PHYSICS.md §8.3): hops of at most 1.3·10⁻³ d on a still floor.
+pub(crate) const SHAKEN_WALL_THRESHOLD: f64 = 0.05;
 
 /// A replica whose last `STALL_WINDOW_PER_PARTICLE`·N events (at least) brought fewer than one pair
 /// collision per `STALL_EVENTS_PER_COLLISION` events has stopped colliding: an inelastic gas can order
@@ -116,6 +119,21 @@ pub(super) fn init_params<const D: usize>(
             white_noise: r.white_noise,
             kick_interval: super::noise::kick_interval(r),
             kick_conserves_momentum: true,
+            ..p.sim.unwrap_or_else(|| p.default_sim_params())
+        });
+    }
+    // A vibrating floor (PHYSICS.md §8.3): contacts slower than 0.05 √(g d) relative to it are
+    // elastic where the floor is not, so that grains that would rest on it keep hopping.
+    if r.shaken() {
+        let (amplitude, omega) = r.floor_motion();
+        p.sim = Some(SimParams {
+            floor_amplitude: amplitude,
+            floor_omega: omega,
+            wall_threshold: if r.wall_eps < 1.0 {
+                SHAKEN_WALL_THRESHOLD * (r.gravity * r.largest_diameter()).sqrt()
+            } else {
+                0.0
+            },
             ..p.sim.unwrap_or_else(|| p.default_sim_params())
         });
     }

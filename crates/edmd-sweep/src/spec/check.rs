@@ -328,6 +328,8 @@ fn grid_size(g: &Grid) -> f64 {
         g.wall_eps.values().len(),
         g.floor_temperature.as_ref().map_or(1, |f| f.values().len()),
         g.white_noise.as_ref().map_or(1, |f| f.values().len()),
+        g.shake_s.as_ref().map_or(1, |f| f.values().len()),
+        g.shake_gamma.as_ref().map_or(1, |f| f.values().len()),
     ];
     axes.iter().map(|&a| a as f64).product::<f64>() * density_pairs(g) * g.seeds as f64
 }

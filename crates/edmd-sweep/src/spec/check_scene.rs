@@ -10,6 +10,7 @@ impl Spec {
     /// The scene checks of one grid, whose fields are named `{at}.gravity` and so on.
     pub(super) fn validate_scene(&self, g: &Grid, at: &str) -> Result<(), SweepError> {
         scene_axes(g, at)?;
+        shaking(g, at)?;
         walls_and_shear(g, at)?;
         self.driven_rules(g, at)?;
         if let Some(axis) = &g.aspect {
@@ -127,6 +128,58 @@ fn white_noise_scene(g: &Grid, value: &str, at: &str) -> Result<(), SweepError> 
         ),
         None => Ok(()),
     }
+}
+
+/// A vibrating floor: S and Γ given together, each a non-empty axis in its domain, under gravity on
+/// every grid point, with a floor restitution > 0 (at 0 a grain would ride it in contacts without
+/// end), and no other drive.
+fn shaking(g: &Grid, at: &str) -> Result<(), SweepError> {
+    let (s, gamma) = match (&g.shake_s, &g.shake_gamma) {
+        (None, None) => return Ok(()),
+        (Some(s), Some(gamma)) => (s, gamma),
+        (Some(s), None) => {
+            let v = format!("{:?}", s.values());
+            return bad(at, "shake_s", &v, "needs shake_gamma too (Gamma = A w^2/g)");
+        }
+        (None, Some(gamma)) => {
+            let v = format!("{:?}", gamma.values());
+            return bad(
+                at,
+                "shake_gamma",
+                &v,
+                "needs shake_s too (S = A^2 w^2/(g d))",
+            );
+        }
+    };
+    for (field, axis, d) in [
+        ("shake_s", s, &domain::SHAKE_S),
+        ("shake_gamma", gamma, &domain::SHAKE_GAMMA),
+    ] {
+        no_duplicates(at, field, axis)?;
+        if axis.values().is_empty() {
+            return bad(at, field, &"[]", "empty axis: the grid has no replicas");
+        }
+        for v in axis.values() {
+            within(&format!("{at}.{field}"), v, d)?;
+        }
+    }
+    let value = format!("{:?}", s.values());
+    let refuse = |reason: &str| bad(at, "shake_s", &value, reason);
+    if g.gravity.values().iter().any(|&x| x <= 0.0) {
+        return refuse("a vibrating floor needs gravity > 0 on every grid point");
+    }
+    if g.floor_temperature.is_some() || g.white_noise.is_some() {
+        return refuse("a floor either vibrates or is thermal, and runs without white noise");
+    }
+    if g.wall_eps.values().contains(&0.0) {
+        return bad(
+            at,
+            "wall_eps",
+            &format!("{:?}", g.wall_eps.values()),
+            "a vibrating floor needs wall_eps > 0 (at 0 a grain rides it in contacts without end)",
+        );
+    }
+    Ok(())
 }
 
 /// Gravity, floors and wall restitution need walls on the last axis; shear needs the sliding box.

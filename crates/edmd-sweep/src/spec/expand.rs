@@ -45,6 +45,10 @@ pub struct Replica {
     pub floor_temperature: f64,
     /// The white-noise thermostat's strength ξ₀² (0: none).
     pub white_noise: f64,
+    /// A vibrating floor's shaking strength S = A²ω²/(g d) (0: a floor that stands still).
+    pub shake_s: f64,
+    /// A vibrating floor's peak acceleration Γ = Aω²/g (0: a floor that stands still).
+    pub shake_gamma: f64,
     /// Box as given.
     pub density: Density,
     /// Particle number.
@@ -106,6 +110,31 @@ impl Replica {
             || self.white_noise > 0.0
     }
 
+    /// The largest grain diameter (1 for one species).
+    pub fn largest_diameter(&self) -> f64 {
+        self.species
+            .as_ref()
+            .map_or(1.0, |m| m.iter().map(|s| s.diameter).fold(0.0, f64::max))
+    }
+
+    /// Whether the floor vibrates.
+    pub fn shaken(&self) -> bool {
+        self.shake_s > 0.0
+    }
+
+    /// A vibrating floor's amplitude A = S d/Γ and angular frequency ω = √(Γ g/A), d the largest
+    /// diameter; (0, 1) for a floor that stands still.
+    pub fn floor_motion(&self) -> (f64, f64) {
+        if !self.shaken() {
+            return (0.0, 1.0);
+        }
+        let amplitude = self.shake_s * self.largest_diameter() / self.shake_gamma;
+        (
+            amplitude,
+            (self.shake_gamma * self.gravity / amplitude).sqrt(),
+        )
+    }
+
     /// Whether the box is a Lees–Edwards box (sheared at `shear_rate`, possibly 0).
     pub fn sheared(&self) -> bool {
         self.boundary == BoundaryKind::LeesEdwards
@@ -129,6 +158,9 @@ impl Replica {
         }
         if self.white_noise > 0.0 {
             out += &format!(", noise={}", self.white_noise);
+        }
+        if self.shaken() {
+            out += &format!(", S={}, Gamma={}", self.shake_s, self.shake_gamma);
         }
         if let Some(a) = &self.aspect {
             out += &format!(", aspect={}", aspect_label(a));
@@ -273,7 +305,7 @@ impl Spec {
     /// The replicas in expansion order: grid by grid (the refinement's points last, in round order);
     /// within a grid dim, species, aspect, boundary,
     /// remedy, n, density, eps, beta, gravity, shear_rate, wall_eps, floor_temperature, white_noise,
-    /// seed (seed fastest).
+    /// shake_s, shake_gamma, seed (seed fastest).
     pub fn replicas(&self) -> Vec<Replica> {
         let mut out = Vec::new();
         for g in self.grids() {
@@ -300,14 +332,24 @@ impl Spec {
             .map_or(vec![0.0], |f| f.values());
         let noises = g.white_noise.as_ref().map_or(vec![0.0], |f| f.values());
         // The scene axes varying inside beta: gravity, shear rate, wall restitution, floor
-        // temperature, white noise.
+        // temperature, white noise, the floor's shaking (S, then Γ).
+        let shakes: Vec<(f64, f64)> = match (&g.shake_s, &g.shake_gamma) {
+            (Some(s), Some(gamma)) => s
+                .values()
+                .into_iter()
+                .flat_map(|s| gamma.values().into_iter().map(move |gamma| (s, gamma)))
+                .collect(),
+            _ => vec![(0.0, 0.0)],
+        };
         let mut scenes = Vec::new();
         for gravity in g.gravity.values() {
             for shear_rate in g.shear_rate.values() {
                 for wall_eps in g.wall_eps.values() {
                     for &floor in &floors {
                         for &noise in &noises {
-                            scenes.push((gravity, shear_rate, wall_eps, floor, noise));
+                            for &shake in &shakes {
+                                scenes.push((gravity, shear_rate, wall_eps, floor, noise, shake));
+                            }
                         }
                     }
                 }
@@ -331,6 +373,7 @@ impl Spec {
                                             wall_eps,
                                             floor_temperature,
                                             white_noise,
+                                            (shake_s, shake_gamma),
                                         ) in &scenes
                                         {
                                             for seed_index in 0..g.seeds {
@@ -348,6 +391,8 @@ impl Spec {
                                                     wall_eps,
                                                     floor_temperature,
                                                     white_noise,
+                                                    shake_s,
+                                                    shake_gamma,
                                                     density,
                                                     n,
                                                     seed_index,

@@ -321,6 +321,16 @@ pub struct Grid {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schemars(schema_with = "domain::white_noise_axis")]
     pub white_noise: Option<OneOrMany<f64>>,
+    /// A vibrating floor's shaking strength S = A²ω²/(g d) (PHYSICS.md §8.2–8.3), d the largest
+    /// diameter; with `shake_gamma` it sets the amplitude A = S d/Γ and the angular frequency
+    /// ω = √(Γ g/A). Gravity scenes only; default none (a floor that stands still).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(schema_with = "domain::shake_s_axis")]
+    pub shake_s: Option<OneOrMany<f64>>,
+    /// A vibrating floor's peak acceleration Γ = Aω²/g, given with `shake_s`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(schema_with = "domain::shake_gamma_axis")]
+    pub shake_gamma: Option<OneOrMany<f64>>,
 }
 
 fn default_dim() -> OneOrMany<usize> {

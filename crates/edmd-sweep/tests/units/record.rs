@@ -28,6 +28,8 @@ fn csv_header_is_the_field_list_and_fields_are_quoted() {
         wall_eps: 1.0,
         floor_temperature: 0.0,
         white_noise: 0.0,
+        shake_s: 0.0,
+        shake_gamma: 0.0,
         aspect: String::new(),
         phi: 0.25,
         box_side: 56.7,
