@@ -3,7 +3,9 @@
 //! floor's cost"). The bed: 2000 disks of diameter 1 in a column 100 wide (20 layers), ε = 0.9
 //! with the TC model, a floor of restitution 0.9, shaken at Γ = 4, S = 4 (A = 1, ω = 2, g = 1).
 //!
-//! `cargo run --release -p edmd-core --example shaken_bed_cost -- [rounds] [collisions]`
+//! `cargo run --release -p edmd-core --example shaken_bed_cost -- [rounds] [collisions] [which]`,
+//! `which` one of `both` (default), `shaken`, `static`: one of them alone, for instruction counts
+//! (`valgrind --tool=cachegrind` at two collision counts; the difference is the run's own work).
 
 use std::time::Instant;
 
@@ -43,8 +45,11 @@ fn median(mut x: Vec<f64>) -> f64 {
 }
 
 fn main() {
-    let args: Vec<u64> = std::env::args()
-        .skip(1)
+    let words: Vec<String> = std::env::args().skip(1).collect();
+    let which = words.get(2).map_or("both", |w| w.as_str());
+    let args: Vec<u64> = words
+        .iter()
+        .take(2)
         .map(|a| a.parse().expect("rounds and collisions are integers"))
         .collect();
     let (rounds, collisions) = (
@@ -79,6 +84,11 @@ fn main() {
         moving.reset_counters();
         let still = Simulation::<2, Column, _>::new(box_len, state.clone(), rule(), params(0.0))
             .expect("the same state on a floor at rest");
+        if which != "both" {
+            let rate = rate(if which == "shaken" { moving } else { still }, collisions);
+            println!("{which}: {rate:.4e}/s");
+            return;
+        }
         // Alternate which runs first, so that a drift of the machine's speed cancels.
         let (m, s) = if round % 2 == 0 {
             let m = rate(moving, collisions);

@@ -56,6 +56,16 @@ impl Flight {
         self.z0 + t * (self.v0 - 0.5 * self.g * t)
     }
 
+    /// The gap h(t) and its slope h'(t), from one evaluation of the floor's phase (`sin_cos`: the
+    /// root search's Newton steps need both, and the transcendental functions are its cost).
+    fn gap_and_slope(&self, floor: &Floor, t: f64) -> (f64, f64) {
+        let (sin, cos) = (floor.omega * t + floor.phase).sin_cos();
+        (
+            self.height(t) - floor.amplitude * sin,
+            self.v0 - self.g * t - floor.amplitude * floor.omega * cos,
+        )
+    }
+
     /// The first time t in (0, horizon] at which the flight meets the floor from above, or None.
     /// The grain must start on or above the floor (h(0) ≥ 0).
     pub fn first_contact(&self, floor: &Floor, horizon: f64) -> Option<f64> {
@@ -122,14 +132,12 @@ impl Flight {
     /// minimum, but stops as soon as a probe is below the floor or the two tangents at the
     /// bracket's ends, which bound a convex function from below, meet above it.
     fn lowest_on(&self, floor: &Floor, a: f64, b: f64) -> f64 {
-        let gap = |t: f64| self.height(t) - floor.height(t);
-        let slope = |t: f64| self.v0 - self.g * t - floor.speed(t);
         let (mut lo, mut hi) = (a, b);
-        let (mut s_lo, mut s_hi) = (slope(lo), slope(hi));
+        let (mut h_lo, mut s_lo) = self.gap_and_slope(floor, lo);
         if s_lo >= 0.0 {
             return a;
         }
-        let (mut h_lo, mut h_hi) = (gap(lo), gap(hi));
+        let (mut h_hi, mut s_hi) = self.gap_and_slope(floor, hi);
         if s_hi <= 0.0 || h_hi < 0.0 {
             return b;
         }
@@ -143,7 +151,7 @@ impl Flight {
             if mid <= lo || mid >= hi {
                 break;
             }
-            let (h_mid, s_mid) = (gap(mid), slope(mid));
+            let (h_mid, s_mid) = self.gap_and_slope(floor, mid);
             if h_mid < 0.0 {
                 return mid;
             }
@@ -159,17 +167,15 @@ impl Flight {
     /// The root in [lo, hi] with h(lo) ≥ 0 > h(hi): Newton steps kept inside the bracket, bisection
     /// where a step would leave it, to round-off.
     fn refine(&self, floor: &Floor, mut lo: f64, mut hi: f64) -> f64 {
-        let gap = |t: f64| self.height(t) - floor.height(t);
-        let slope = |t: f64| self.v0 - self.g * t - floor.speed(t);
         let mut t = hi;
         for _ in 0..200 {
-            let h = gap(t);
+            let (h, slope) = self.gap_and_slope(floor, t);
             if h < 0.0 {
                 hi = t;
             } else {
                 lo = t;
             }
-            let newton = t - h / slope(t);
+            let newton = t - h / slope;
             let next = if newton > lo && newton < hi {
                 newton
             } else {
@@ -180,12 +186,9 @@ impl Flight {
             }
             t = next;
         }
-        // The last time on or above the floor: the grain never ends below it.
-        if gap(hi) >= 0.0 {
-            hi
-        } else {
-            lo
-        }
+        // The last time on or above the floor (every `hi` is below it): the grain never ends
+        // below the floor.
+        lo
     }
 }
 
