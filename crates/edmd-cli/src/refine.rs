@@ -30,7 +30,7 @@ pub struct RefineArgs {
     /// Replicas the refinement may add in all, at least 1 [default: no limit].
     #[arg(long, value_name = "R", value_parser = at_least_one)]
     pub budget: Option<usize>,
-    /// Axes to bisect, e.g. eps,box (of eps, phi, box, n, beta) [default: those the grid varies,
+    /// Axes to bisect, e.g. eps,box (of eps, phi, box, n, beta, shake_s) [default: those the grid varies,
     /// or those of an earlier round].
     #[arg(long, value_name = "AXES")]
     pub axes: Option<String>,

@@ -192,6 +192,9 @@ record_fields! {
     shake_s: f64,
     /// A vibrating floor's peak acceleration Γ = Aω²/g (0: a floor that stands still).
     shake_gamma: f64,
+    /// A shaken bed's state: solid, bouncing_bed, leidenfrost, gas or undetermined (PHYSICS.md
+    /// §8.4; empty for a still floor).
+    shaken_state: String,
     /// Relative box sides joined by `x` (empty: square or cubic).
     aspect: String,
     /// Packing fraction.
@@ -260,6 +263,7 @@ impl Record {
             white_noise: r.white_noise,
             shake_s: r.shake_s,
             shake_gamma: r.shake_gamma,
+            shaken_state: String::new(),
             aspect: r
                 .aspect
                 .as_ref()

@@ -210,10 +210,10 @@ fn heated_column_from_a_spec() {
         }
     }
     // The index carries the scene's axes (gravity, shear_rate, wall_eps, floor_temperature,
-    // white_noise, shake_s, shake_gamma, aspect).
+    // white_noise, shake_s, shake_gamma, shaken_state, aspect).
     let summary = std::fs::read_to_string(out.join("summary.csv")).unwrap();
     assert!(
-        summary.contains(",0.1,0.0,0.8,2.0,0.0,0.0,0.0,1.6666666666666667x1,"),
+        summary.contains(",0.1,0.0,0.8,2.0,0.0,0.0,0.0,,1.6666666666666667x1,"),
         "{summary}"
     );
     // The phase table names the scene in one column.

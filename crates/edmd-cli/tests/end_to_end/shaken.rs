@@ -1,6 +1,7 @@
 //! A bed on a vibrating floor from a spec (PHYSICS.md §8.3): `shake_s` and `shake_gamma` become the
 //! floor's amplitude and frequency, the files carry them with the floor's work and the grains' mean
-//! height, every grain of the final snapshot is above the floor, and the index names the scene.
+//! height, every grain of the final snapshot is above the floor, the bed's state is labelled, and the
+//! index names the scene and the state.
 
 use crate::common::{read, run_spec};
 
@@ -41,11 +42,20 @@ fn a_shaken_bed_from_a_spec() {
         lowest >= floor - 1e-9,
         "a grain at {lowest}, the floor at {floor}"
     );
+    // The bed's state, from its density profile (`replica/shaken.rs`), in the file and the index.
+    let state: hdf5::types::VarLenUnicode =
+        params.attr("shaken_state").unwrap().read_scalar().unwrap();
+    let labels = [
+        "solid",
+        "bouncing_bed",
+        "leidenfrost",
+        "gas",
+        "undetermined",
+    ];
+    assert!(labels.contains(&state.as_str()), "{state}");
     let summary = std::fs::read_to_string(out.join("summary.csv")).unwrap();
-    assert!(
-        summary.contains(",1.0,0.0,0.9,0.0,0.0,10.0,4.0,0.5x1,"),
-        "{summary}"
-    );
+    let columns = format!(",1.0,0.0,0.9,0.0,0.0,10.0,4.0,{},0.5x1,", state.as_str());
+    assert!(summary.contains(&columns), "{summary}");
     let phase = std::fs::read_to_string(out.join("phase.json")).unwrap();
     assert!(phase.contains("S=10, Gamma=4"), "{phase}");
 }

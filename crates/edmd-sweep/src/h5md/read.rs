@@ -124,6 +124,11 @@ pub fn read_record(path: &Path, spec_hash: &str) -> Result<Record, SweepError> {
             white_noise: read_or(&p, "white_noise", 0.0)?,
             shake_s: read_or(&p, "shake_s", 0.0)?,
             shake_gamma: read_or(&p, "shake_gamma", 0.0)?,
+            shaken_state: if p.attr("shaken_state").is_ok() {
+                read_str(&p, "shaken_state")?
+            } else {
+                String::new()
+            },
             aspect: aspect_of(&p)?,
             phi: read_f64(&p, "phi")?,
             box_side: read_f64(&p, "box_side")?,

@@ -3,7 +3,7 @@
 
 use hdf5::Group;
 
-use super::{attr_f64, Writer};
+use super::{attr_f64, attr_str, Writer};
 use crate::replica::{density_profile_theory, rotational_ratio_theory, Series};
 use crate::spec::{Replica, Spec};
 
@@ -97,6 +97,24 @@ pub(super) fn shear_parameters(p: &Group, spec: &Spec, r: &Replica) -> hdf5::Res
         attr_f64(p, name, v)?;
     }
     Ok(())
+}
+
+/// Parameters of a shaken bed's state (PHYSICS.md §8.4): `shaken_state` and the numbers it was
+/// read from, `shaken_phi_max`, `shaken_peak_height` (diameters above the floor's first layer) and
+/// `shaken_inversion`; nothing for a still floor or a bed without samples.
+pub(super) fn shaken_parameters(
+    p: &Group,
+    r: &Replica,
+    s: &Series,
+    bins: usize,
+) -> hdf5::Result<()> {
+    let Some(state) = crate::replica::shaken_state(r, s, bins) else {
+        return Ok(());
+    };
+    attr_str(p, "shaken_state", state.label)?;
+    attr_f64(p, "shaken_phi_max", state.phi_max)?;
+    attr_f64(p, "shaken_peak_height", state.peak_height)?;
+    attr_f64(p, "shaken_inversion", state.inversion)
 }
 
 /// Parameters of a replica heated by white noise: `kick_interval` Δt, and where the theory applies

@@ -176,8 +176,14 @@ pub fn points(spec: &Spec, records: &[Record]) -> Vec<Point> {
     let mut classes: HashMap<String, Vec<String>> = HashMap::new();
     for (r, rec) in spec.replicas().iter().zip(records) {
         let entry = classes.entry(r.point_key()).or_default();
-        if rec.status.has_data() && is_regime(&rec.class) {
-            entry.push(rec.class.clone());
+        // A shaken bed's regime is its state (`replica/shaken.rs`), not a free-cooling class.
+        let regime = if rec.shaken_state.is_empty() {
+            &rec.class
+        } else {
+            &rec.shaken_state
+        };
+        if rec.status.has_data() && (is_regime(regime) || !rec.shaken_state.is_empty()) {
+            entry.push(regime.clone());
         }
     }
     let mut seen = HashSet::new();

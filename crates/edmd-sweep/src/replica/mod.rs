@@ -21,6 +21,7 @@ pub mod noise;
 mod points;
 mod sampler;
 mod scene_theory;
+mod shaken;
 mod shear;
 mod simulate;
 mod stall;
@@ -30,6 +31,7 @@ pub use scene_theory::{
     density_profile_theory, rotational_ratio_theory, shear_theory, species_temperature_theory,
     ProfileTheory,
 };
+pub use shaken::{shaken_state, ShakenState, ShakenThresholds, SHAKEN_THRESHOLDS};
 pub use shear::{
     classify as classify_shear, contrast as density_contrast, profile_bins, ShearSeries,
 };

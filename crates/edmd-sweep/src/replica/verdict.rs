@@ -22,7 +22,9 @@ pub(super) fn classification(
             shear_onset: f64::NAN,
             cluster_onset: f64::NAN,
             haff_deviation: Vec::new(),
-            note: if r.gravity > 0.0 {
+            note: if r.shaken() {
+                "a shaken bed: not free cooling (its state: parameters/shaken_state)".into()
+            } else if r.gravity > 0.0 {
                 "gravity: a stratified column is not free cooling".into()
             } else {
                 "driven by a thermal floor: not free cooling".into()

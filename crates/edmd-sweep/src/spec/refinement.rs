@@ -5,7 +5,8 @@ use serde::{Deserialize, Serialize};
 
 use super::Grid;
 
-/// A grid axis that `edmd refine` bisects: linear for ε, φ and β, logarithmic for N and the box.
+/// A grid axis that `edmd refine` bisects: linear for ε, φ and β, logarithmic for N, the box and
+/// a vibrating floor's shaking strength S.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "lowercase")]
 pub enum RefineAxis {
@@ -19,16 +20,20 @@ pub enum RefineAxis {
     N,
     /// Tangential restitution β (linear).
     Beta,
+    /// A vibrating floor's shaking strength S (geometric).
+    #[serde(rename = "shake_s")]
+    ShakeS,
 }
 
 impl RefineAxis {
     /// Every axis, in the order `--axes` lists them by default.
-    pub const ALL: [RefineAxis; 5] = [
+    pub const ALL: [RefineAxis; 6] = [
         RefineAxis::Eps,
         RefineAxis::Phi,
         RefineAxis::Box,
         RefineAxis::N,
         RefineAxis::Beta,
+        RefineAxis::ShakeS,
     ];
 
     /// The name of the axis: its field in a grid.
@@ -39,12 +44,13 @@ impl RefineAxis {
             RefineAxis::Box => "box",
             RefineAxis::N => "n",
             RefineAxis::Beta => "beta",
+            RefineAxis::ShakeS => "shake_s",
         }
     }
 
     /// Whether the axis is bisected in its logarithm (N and the box).
     pub fn logarithmic(self) -> bool {
-        matches!(self, RefineAxis::Box | RefineAxis::N)
+        matches!(self, RefineAxis::Box | RefineAxis::N | RefineAxis::ShakeS)
     }
 
     /// Parses an axis name.

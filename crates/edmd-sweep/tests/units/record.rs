@@ -30,6 +30,7 @@ fn csv_header_is_the_field_list_and_fields_are_quoted() {
         white_noise: 0.0,
         shake_s: 0.0,
         shake_gamma: 0.0,
+        shaken_state: String::new(),
         aspect: String::new(),
         phi: 0.25,
         box_side: 56.7,
