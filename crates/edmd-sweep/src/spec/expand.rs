@@ -1,11 +1,10 @@
-//! Expansion of a spec into replicas, their seeds, and shards of them.
+//! Expansion of a spec into replicas and their seeds.
 
 use std::fmt;
 use std::sync::Arc;
 
 use super::species::{self, Mixture};
 use super::{BoundaryKind, Grid, Remedy, Spec};
-use crate::SweepError;
 
 /// How the box of a replica is given.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -433,38 +432,6 @@ impl Spec {
                 .unwrap_or_default()
         );
         stable_hash(key.as_bytes())
-    }
-}
-
-/// Which replicas a shard runs: `K/N` takes every replica whose index is `K` modulo `N`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Shard {
-    /// This shard, 0-based.
-    pub k: usize,
-    /// Number of shards.
-    pub n: usize,
-}
-
-impl Shard {
-    /// Parses `K/N` with 0 ≤ K < N.
-    pub fn parse(s: &str) -> Result<Shard, SweepError> {
-        let err = || {
-            SweepError::Usage(format!(
-                "--shard {s}: expected K/N with 0 <= K < N, e.g. 0/4"
-            ))
-        };
-        let (k, n) = s.split_once('/').ok_or_else(err)?;
-        let k: usize = k.trim().parse().map_err(|_| err())?;
-        let n: usize = n.trim().parse().map_err(|_| err())?;
-        if n == 0 || k >= n {
-            return Err(err());
-        }
-        Ok(Shard { k, n })
-    }
-
-    /// Whether the shard runs replica `index`.
-    pub fn contains(&self, index: usize) -> bool {
-        index % self.n == self.k
     }
 }
 

@@ -21,6 +21,7 @@ mod expand;
 mod one_or_many;
 mod refinement;
 mod sampling;
+mod shard;
 mod species;
 
 pub use crate::domain::{MAX_REPLICAS, MAX_SAMPLES};
@@ -28,10 +29,11 @@ pub use boundary::BoundaryKind;
 pub use checkpoint::CheckpointSpec;
 
 pub use check_rule::viscoelastic;
-pub use expand::{aspect_label, ball_volume, close_packing, stable_hash, Density, Replica, Shard};
+pub use expand::{aspect_label, ball_volume, close_packing, stable_hash, Density, Replica};
 pub use one_or_many::OneOrMany;
 pub use refinement::{RefineAxis, Refinement};
 pub use sampling::{SampleSpec, SnapshotSpec};
+pub use shard::Shard;
 pub use species::{
     counts as species_counts, label as species_label, AspectAxis, ListAxis, Mixture, Species,
     SpeciesAxis,
