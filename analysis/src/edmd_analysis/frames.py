@@ -19,7 +19,8 @@ from .jsonfiles import read_boundary, read_json
 # The index's columns in the order of summary.csv (`Record` in crates/edmd-sweep/src/record.rs).
 INDEX_COLUMNS = (
     "index", "file", "status", "message", "dim", "boundary", "eps", "beta", "species", "gravity",
-    "shear_rate", "wall_eps", "floor_temperature", "white_noise", "aspect", "phi", "box_side", "n", "seed_index", "seed", "remedy",
+    "shear_rate", "wall_eps", "floor_temperature", "white_noise", "shake_s", "shake_gamma",
+    "shaken_state", "aspect", "phi", "box_side", "n", "seed_index", "seed", "remedy",
     "tau", "time", "ln_temperature_ratio", "collisions", "collapse_tau", "class", "shear_onset_tau",
     "cluster_onset_tau", "f_flow", "s_perp", "delta_rho2", "wall_s",
     "resumes",

@@ -219,7 +219,9 @@ fn a_vibrating_floor_refuses_what_would_stall_it() {
 /// M g / area, whatever the density) and on a Maxwellian at the floor; the Maxwellian average is
 /// taken to every order in Aω/√T_z (≈ 0.3 here). Tolerance 5 % (the issue's): the batches'
 /// standard error is about 1 %, T_z's drop across the 1σ layer (≈ 3 %) moves P by half that.
+/// In `make validate` (the dilute bed below is `make test`'s check of the power).
 #[test]
+#[ignore]
 fn an_elastic_floor_puts_in_the_power_of_theory() {
     let (n, g, a, omega) = (1000, 0.05, 0.02, 10.0);
     let mut p = InitParams::<2>::in_box(n, Vector::<2>::new(200.0, 300.0));
