@@ -210,6 +210,28 @@ fn a_vibrating_floor_refuses_what_would_stall_it() {
     }
 }
 
+/// 1000 disks (α = 0.99) in a column 200 wide and `height` high under gravity `g`, at temperature
+/// `t0`, on an elastic floor with A = 0.02 and ω = 10 (Aω = 0.2), cells of `cell_factor` diameters.
+fn gas_on_an_elastic_floor(
+    (height, g): (f64, f64),
+    t0: f64,
+    cell_factor: f64,
+) -> Simulation<2, Column, Rule> {
+    let mut p = InitParams::<2>::in_box(1000, Vector::<2>::new(200.0, height));
+    p.seed = 5;
+    p.placement = Placement::Random;
+    p.temperature = t0;
+    p.sim = Some(SimParams {
+        gravity: g,
+        floor_amplitude: 0.02,
+        floor_omega: 10.0,
+        cell_factor,
+        ..SimParams::default()
+    });
+    p.build::<Column, _>(Rule::new(ConstantRestitution::new(0.99).unwrap()))
+        .unwrap()
+}
+
 /// An elastic floor shaking a bed of 1000 nearly elastic disks (α = 0.99) 200 wide under g = 0.05,
 /// dense at the floor (φ ≈ 0.5; Aω = 0.2, ω = 10: a period of 0.63 against flights of about
 /// 2√T/g ≈ 25): in the steady state
@@ -224,18 +246,7 @@ fn a_vibrating_floor_refuses_what_would_stall_it() {
 #[ignore]
 fn an_elastic_floor_puts_in_the_power_of_theory() {
     let (n, g, a, omega) = (1000, 0.05, 0.02, 10.0);
-    let mut p = InitParams::<2>::in_box(n, Vector::<2>::new(200.0, 300.0));
-    p.seed = 5;
-    p.placement = Placement::Random;
-    p.temperature = 1.0;
-    p.sim = Some(SimParams {
-        gravity: g,
-        floor_amplitude: a,
-        floor_omega: omega,
-        ..SimParams::default()
-    });
-    let rule = Rule::new(ConstantRestitution::new(0.99).unwrap());
-    let mut sim = p.build::<Column, _>(rule).unwrap();
+    let mut sim = gas_on_an_elastic_floor((300.0, g), 1.0, 1.0);
     sim.run(Stop::Time(2000.0)); // the steady state, from T = 1 down to about 0.4
     let mut ratios = Vec::new();
     for _ in 0..8 {
@@ -388,19 +399,7 @@ fn dilute_batch(
 #[test]
 fn a_dilute_bed_matches_its_theory() {
     let (n, g, a, omega, width) = (1000, 0.002, 0.02, 10.0, 200.0);
-    let mut p = InitParams::<2>::in_box(n, Vector::<2>::new(width, 2000.0));
-    p.seed = 5;
-    p.placement = Placement::Random;
-    p.temperature = 0.4;
-    p.sim = Some(SimParams {
-        gravity: g,
-        floor_amplitude: a,
-        floor_omega: omega,
-        cell_factor: 4.0,
-        ..SimParams::default()
-    });
-    let rule = Rule::new(ConstantRestitution::new(0.99).unwrap());
-    let mut sim = p.build::<Column, _>(rule).unwrap();
+    let mut sim = gas_on_an_elastic_floor((2000.0, g), 0.4, 4.0);
     sim.run(Stop::Time(40_000.0));
     let batches: Vec<BedBatch> = (0..5)
         .map(|_| dilute_batch(&mut sim, g, (a, a * omega), 20_000.0, 20.0))
