@@ -37,7 +37,8 @@ from . import driven, files, io, movie, plots  # noqa: E402
 
 # The index columns that tell grid points apart (the seed aside).
 POINT_COLUMNS = ("dim", "boundary", "remedy", "n", "phi", "box_side", "eps", "beta", "species",
-                 "gravity", "shear_rate", "wall_eps", "floor_temperature", "white_noise", "aspect")
+                 "gravity", "shear_rate", "wall_eps", "floor_temperature", "white_noise", "shake_s",
+                 "shake_gamma", "aspect")
 
 
 def _first_seed_per_point(index: io.Index, max_points: int):
@@ -84,6 +85,8 @@ def _title(index: io.Index, i: int) -> str:
         extra += f" floor_T={index['floor_temperature'][i]:g}"
     if "white_noise" in col and index["white_noise"][i] > 0:
         extra += f" noise={index['white_noise'][i]:g}"
+    if "shake_s" in col and index["shake_s"][i] > 0:
+        extra += f" S={index['shake_s'][i]:g} Gamma={index['shake_gamma'][i]:g} {index['shaken_state'][i]}"
     if _resumes(index, i):
         extra += " continued"
     # Two lines: the grid point, then the scene and the class (titles of narrow panels stay short).
@@ -166,6 +169,10 @@ LEGENDS = {
     "white-noise": "Gases heated by white noise, averaged over the second half of each run: the "
                    "temperature over the theory's T_s (1 in theory) and the speed kurtosis against "
                    "(d+2)/d (1 + a2) of van Noije & Ernst (dashed; docs/PHYSICS.md 8.1).",
+    "shaken-states": "Beds on a vibrating floor in the plane of the shaking strength S and the layers "
+                     "F: each replica coloured by its state, read from its density profile over the "
+                     "second half of the run (parameters/shaken_state; thresholds and what is not "
+                     "labelled yet in docs/PHYSICS.md 8.4).",
     "stream-profiles": "Stream velocity u_x(y) of sheared replicas over the second half of the run "
                        "against the imposed a (y - L_y/2); orange: density along y over its mean "
                        "(flat when the flow is homogeneous).",
@@ -189,6 +196,7 @@ TITLES = {
     "phase-boundary": "Phase boundary found by refinement",
     "shear-rheology": "Rheology of the steady shear flow",
     "white-noise": "The steady state of gases heated by white noise",
+    "shaken-states": "States of the shaken bed",
     "stream-profiles": "Stream velocity and density across the flow",
     "movie-": "Movie of a {c} replica ({k})",
 }
@@ -324,6 +332,16 @@ def _white_noise_figure(dest: Path, paths):
     return saved
 
 
+def _shaken_figure(dest: Path, index: io.Index):
+    saved: list = []
+    fig, ax = plt.subplots(figsize=(6, 4))
+    if driven.shaken_states(ax, index):
+        _save(fig, dest, "shaken-states", saved)
+    else:
+        plt.close(fig)
+    return saved
+
+
 def _run(task):
     draw, args = task
     return draw(*args)
@@ -429,6 +447,8 @@ def _write_report(out: Path, dest: Path, index, max_points: int, movies: bool, j
     if "white_noise" in index.columns and (index["white_noise"] > 0).any():
         tasks.append((_white_noise_figure, (dest, [index.replica_path(i) for i in range(len(index))
                                                     if index["white_noise"][i] > 0 and index["status"][i] == "done"])))
+    if "shake_s" in index.columns and (index["shake_s"] > 0).any():
+        tasks.append((_shaken_figure, (dest, index)))
     if movies:
         tasks += _movie_tasks(index, dest)
     saved = _render(tasks, jobs)
