@@ -1,9 +1,8 @@
-"""Driven gases: gases heated by white noise (PHYSICS.md §8.1), the steady state of each replica
-and the figure of temperature and kurtosis against restitution with the theory written into the
-files; beds on a vibrating floor (§8.4), their states in the plane of S and the number of layers F."""
+"""Gases heated by white noise (PHYSICS.md §8.1): the steady state of each replica and the figure
+of temperature and kurtosis against restitution with the theory written into the files. Beds on a
+vibrating floor are in :mod:`edmd_analysis.shaken`."""
 
 import numpy as np
-from matplotlib.ticker import NullFormatter
 
 from . import io
 
@@ -41,47 +40,3 @@ def white_noise_steady_state(axes, reps, last: float = 0.5):
     for ax in axes:
         ax.set_xlabel("restitution eps")
         ax.legend(fontsize="small")
-
-
-# The colours of a shaken bed's states (`parameters/shaken_state`, PHYSICS.md §8.4).
-SHAKEN_COLOURS = {"solid": "#444444", "bouncing_bed": "#1f77b4", "undetermined": "#bbbbbb",
-                  "leidenfrost": "#d62728", "gas": "#ff7f0e"}
-
-
-def shaken_points(index) -> list:
-    """The shaken replicas of an index that finished, as (S, F, Gamma, state): F = N d / W the
-    layers of grains of diameter 1 over the floor's width W (the box side times the aspect's first
-    side; the first sides' product in 3D, F = N d^2 / area)."""
-    out = []
-    for i in range(len(index)):
-        if not index["shake_s"][i] > 0 or index["status"][i] != "done":
-            continue
-        dim = int(index["dim"][i])
-        aspect = [float(a) for a in str(index["aspect"][i]).split("x")] if index["aspect"][i] else [1.0] * dim
-        floor = float(np.prod([index["box_side"][i] * a for a in aspect[:dim - 1]]))
-        out.append((float(index["shake_s"][i]), index["n"][i] / floor,
-                    float(index["shake_gamma"][i]), str(index["shaken_state"][i])))
-    return out
-
-
-def shaken_states(ax, index) -> bool:
-    """The (S, F) plane of a shaken-bed sweep, each replica a dot coloured by its state, one marker
-    per Gamma (False where the index holds no finished shaken replica)."""
-    points = shaken_points(index)
-    if not points:
-        return False
-    markers = dict(zip(sorted({p[2] for p in points}), "osD^v<>"))
-    for state, colour in SHAKEN_COLOURS.items():
-        for gamma, marker in markers.items():
-            mine = [p for p in points if p[3] == state and p[2] == gamma]
-            if mine:
-                label = state if len(markers) == 1 else f"{state}, Gamma={gamma:g}"
-                ax.scatter([p[0] for p in mine], [p[1] for p in mine], c=colour, marker=marker,
-                           s=40, label=label)
-    ax.set_xscale("log")
-    ax.xaxis.set_minor_formatter(NullFormatter())
-    ax.set_xlabel("shaking strength S = A^2 w^2 / (g d)")
-    ax.set_ylabel("layers F = N d / W")
-    ax.set_title("states of the shaken bed")
-    ax.legend(fontsize=8)
-    return True

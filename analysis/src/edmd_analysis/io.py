@@ -163,6 +163,9 @@ class Replica:
     profile_theory_temperature: float | None = None
     # The bin centres of every profile observable (those with a `position` dataset), by name.
     positions: Dict[str, np.ndarray] = field(default_factory=dict)
+    # A shaken bed's uniform-time profiles (/bed: height, packing, temperature, phase_packing,
+    # vertical_velocity); empty elsewhere.
+    bed: Dict[str, np.ndarray] = field(default_factory=dict)
 
     @property
     def status(self) -> str:
@@ -197,6 +200,8 @@ def read_replica(path) -> Replica:
     path = Path(path)
     with _open(path) as f:
         rep = Replica(path, _params(path, f))
+        if "bed" in f:
+            rep.bed = {name: d[()] for name, d in f["bed"].items()}
         if "observables" in f:
             for name, g in f["observables"].items():
                 rep.observables[name] = g["value"][()]

@@ -33,7 +33,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from . import driven, files, io, movie, plots  # noqa: E402
+from . import driven, files, io, movie, plots, shaken  # noqa: E402
 
 # The index columns that tell grid points apart (the seed aside).
 POINT_COLUMNS = ("dim", "boundary", "remedy", "n", "phi", "box_side", "eps", "beta", "species",
@@ -170,13 +170,20 @@ LEGENDS = {
                    "temperature over the theory's T_s (1 in theory) and the speed kurtosis against "
                    "(d+2)/d (1 + a2) of van Noije & Ernst (dashed; docs/PHYSICS.md 8.1).",
     "shaken-states": "Beds on a vibrating floor in the plane of the shaking strength S and the layers "
-                     "F: each replica coloured by its state, read from its density profile over the "
-                     "second half of the run (parameters/shaken_state; thresholds and what is not "
-                     "labelled yet in docs/PHYSICS.md 8.4).",
+                     "F: each replica coloured by its state, read from its uniform-time samples over "
+                     "the second half of the run (parameters/shaken_state; thresholds in "
+                     "docs/PHYSICS.md 8.4).",
+    "shaken-profiles": "Packing fraction and granular temperature against height, averaged over the "
+                       "floor's period in the second half of each shaken run (the file's /bed), one "
+                       "line per replica coloured by its state: a bouncing bed is dense at the floor, "
+                       "a Leidenfrost bed floats a dense layer on a hot dilute one.",
+    "shaken-flow": "The time-averaged vertical velocity of the most convective shaken replica (red "
+                   "up, blue down, in sqrt(g d)): convection rolls show as columns of alternating "
+                   "sign; its amplitude and noise are in the title (docs/PHYSICS.md 8.4).",
     "stream-profiles": "Stream velocity u_x(y) of sheared replicas over the second half of the run "
                        "against the imposed a (y - L_y/2); orange: density along y over its mean "
                        "(flat when the flow is homogeneous).",
-    "movie-": "Movie of one replica of this class: disks to scale coloured by speed in units of the "
+    "movie-": "Movie of one replica of this class (or shaken bed's state): disks to scale coloured by speed in units of the "
               "current rms speed (or by species / spin), tau and T/T0 in the title; a sheared box "
               "shows its sliding images faded around it, speeds relative to the flow.",
 }
@@ -197,6 +204,8 @@ TITLES = {
     "shear-rheology": "Rheology of the steady shear flow",
     "white-noise": "The steady state of gases heated by white noise",
     "shaken-states": "States of the shaken bed",
+    "shaken-profiles": "Height profiles of the shaken beds",
+    "shaken-flow": "Mean flow of the most convective shaken bed",
     "stream-profiles": "Stream velocity and density across the flow",
     "movie-": "Movie of a {c} replica ({k})",
 }
@@ -227,9 +236,13 @@ def legend(name: str) -> str:
 
 def _movie_tasks(index: io.Index, dest: Path, max_frames: int = 40):
     """One short GIF per class (the first replica of each class with two or more snapshots; one
-    movie of the first such replica when the sweep is not classified), as tasks."""
-    classes = [str(c) for c in index["class"]] if "class" in index.columns else [""] * len(index)
-    wanted = [c for c in MOVIE_CLASSES if c in classes] or [None]
+    movie of the first such replica when the sweep is not classified; shaken beds by their state,
+    shaken.MOVIE_STATES), as tasks."""
+    column, kinds = ("class", MOVIE_CLASSES)
+    if "shaken_state" in index.columns and any(str(s) for s in index["shaken_state"]):
+        column, kinds = ("shaken_state", shaken.MOVIE_STATES)
+    classes = [str(c) for c in index[column]] if column in index.columns else [""] * len(index)
+    wanted = [c for c in kinds if c in classes] or [None]
     tasks = []
     for c in wanted:
         for i in range(len(index)):
@@ -335,10 +348,21 @@ def _white_noise_figure(dest: Path, paths):
 def _shaken_figure(dest: Path, index: io.Index):
     saved: list = []
     fig, ax = plt.subplots(figsize=(6, 4))
-    if driven.shaken_states(ax, index):
-        _save(fig, dest, "shaken-states", saved)
+    if not shaken.shaken_states(ax, index):
+        plt.close(fig)
+        return saved
+    _save(fig, dest, "shaken-states", saved)
+    reps = shaken.read(index)
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4.5))
+    if shaken.profiles(axes, reps):
+        _save(fig, dest, "shaken-profiles", saved)
     else:
         plt.close(fig)
+    rolls = shaken.most_convective(reps)
+    if rolls is not None:
+        fig, ax = plt.subplots(figsize=(8, 4))
+        shaken.flow(ax, rolls)
+        _save(fig, dest, "shaken-flow", saved)
     return saved
 
 

@@ -48,11 +48,34 @@ fn a_shaken_bed_from_a_spec() {
     let labels = [
         "solid",
         "bouncing_bed",
+        "undulations",
         "leidenfrost",
+        "convection",
         "gas",
         "undetermined",
     ];
     assert!(labels.contains(&state.as_str()), "{state}");
+    // The uniform-time samples (replica/bed_meter.rs): 16 per period over the second half, in
+    // height bins of one diameter and columns of two.
+    let samples = attr("shaken_samples");
+    let (_, clock) = read(&f, "observables/temperature/time");
+    let periods = (clock.last().unwrap() - clock[0]) * omega / std::f64::consts::TAU;
+    assert!(
+        samples > 16.0 * 0.4 * periods && samples < 16.0 * 0.6 * periods,
+        "{samples}"
+    );
+    let contact = attr("shaken_contact_fraction");
+    assert!((0.0..=1.0).contains(&contact) && attr("shaken_convection") >= 0.0);
+    let (shape, packing) = read(&f, "bed/packing");
+    assert_eq!(shape, vec![100]);
+    assert!(
+        packing.iter().all(|&p| (0.0..0.95).contains(&p)),
+        "{packing:?}"
+    );
+    let total: f64 = packing.iter().sum::<f64>() * 50.0 / (std::f64::consts::PI / 4.0);
+    assert!((total - 200.0).abs() < 1e-6, "{total} grains");
+    assert_eq!(read(&f, "bed/phase_packing").0, vec![16, 100]);
+    assert_eq!(read(&f, "bed/vertical_velocity").0, vec![100, 25]);
     let summary = std::fs::read_to_string(out.join("summary.csv")).unwrap();
     let columns = format!(",1.0,0.0,0.9,0.0,0.0,10.0,4.0,{},0.5x1,", state.as_str());
     assert!(summary.contains(&columns), "{summary}");

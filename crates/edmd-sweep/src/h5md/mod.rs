@@ -20,6 +20,8 @@
 //! /observables/collision_frequency, dissipation_rate, box_offset  value [s]   (Lees–Edwards)
 //! /observables/velocity_profile, density_profile_y, density_profile_x  value [s, B], position [B]
 //! /particles/gas/box/offset  step [k], time [k], value [k]: the images' x offset (Lees–Edwards)
+//! /bed/height, packing, temperature [Z]; phase_packing [16, Z]; vertical_velocity [Z, X]
+//!                            a shaken bed's uniform-time profiles (replica::bed_meter)
 //! /parameters                schema_version, spec (JSON), spec_hash, engine_version, git_commit,
 //!                            replica parameters, seed, status, message and final values as attributes;
 //!                            /parameters/spec holds every spec field as an attribute.
@@ -264,6 +266,7 @@ fn write_file(file: &hdf5::File, spec: &Spec, r: &Replica, out: &Outcome) -> hdf
         return Ok(());
     }
     write_particles(&w, file, r, out)?;
+    scene::bed_group(file, out.bed.as_ref())?;
     write_observables(&w, &file.create_group("observables")?, spec, r, out)
 }
 

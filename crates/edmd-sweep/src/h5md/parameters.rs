@@ -46,7 +46,7 @@ pub(super) fn write(p: &Group, spec: &Spec, r: &Replica, out: &Outcome) -> hdf5:
     scene::rotational_parameters(p, spec, r)?;
     scene::shear_parameters(p, spec, r)?;
     scene::white_noise_parameters(p, spec, r)?;
-    scene::shaken_parameters(p, r, &out.series, out.profile_bins)?;
+    scene::shaken_parameters(p, r, out.bed.as_ref())?;
     attr_f64(p, "gravity", r.gravity)?;
     attr_f64(p, "wall_eps", r.wall_eps)?;
     attr_f64(p, "floor_temperature", r.floor_temperature)?;

@@ -4,6 +4,7 @@
 use hdf5::Group;
 
 use super::{attr_f64, attr_str, Writer};
+use crate::replica::bed_meter::BedSummary;
 use crate::replica::{density_profile_theory, rotational_ratio_theory, Series};
 use crate::spec::{Replica, Spec};
 
@@ -100,21 +101,72 @@ pub(super) fn shear_parameters(p: &Group, spec: &Spec, r: &Replica) -> hdf5::Res
 }
 
 /// Parameters of a shaken bed's state (PHYSICS.md §8.4): `shaken_state` and the numbers it was
-/// read from, `shaken_phi_max`, `shaken_peak_height` (diameters above the floor's first layer) and
-/// `shaken_inversion`; nothing for a still floor or a bed without samples.
+/// read from, `shaken_phi_max`, `shaken_peak_height` (diameters above the floor's first layer),
+/// `shaken_inversion`, `shaken_undulation` (diameters), `shaken_convection` (√(g d)) and
+/// `shaken_convection_mode`; the centre of mass's `shaken_com_mean`, `shaken_com_f` and
+/// `shaken_com_half_f` (diameters), `shaken_contact_fraction`, `shaken_touching` and
+/// `shaken_samples`; nothing for a still floor or a bed without uniform-time samples.
 pub(super) fn shaken_parameters(
     p: &Group,
     r: &Replica,
-    s: &Series,
-    bins: usize,
+    bed: Option<&BedSummary>,
 ) -> hdf5::Result<()> {
-    let Some(state) = crate::replica::shaken_state(r, s, bins) else {
+    let Some((bed, state)) = bed.and_then(|b| Some((b, crate::replica::shaken_state(r, b)?)))
+    else {
         return Ok(());
     };
     attr_str(p, "shaken_state", state.label)?;
-    attr_f64(p, "shaken_phi_max", state.phi_max)?;
-    attr_f64(p, "shaken_peak_height", state.peak_height)?;
-    attr_f64(p, "shaken_inversion", state.inversion)
+    for (name, v) in [
+        ("shaken_phi_max", state.phi_max),
+        ("shaken_peak_height", state.peak_height),
+        ("shaken_inversion", state.inversion),
+        ("shaken_undulation", bed.undulation),
+        ("shaken_convection", bed.convection),
+        ("shaken_convection_mode", bed.convection_mode as f64),
+        ("shaken_convection_noise", bed.convection_noise),
+        ("shaken_com_mean", bed.com_mean),
+        ("shaken_com_f", bed.com_f),
+        ("shaken_com_half_f", bed.com_half_f),
+        ("shaken_contact_fraction", bed.contact_fraction),
+        ("shaken_touching", bed.touching),
+        ("shaken_samples", bed.samples as f64),
+    ] {
+        attr_f64(p, name, v)?;
+    }
+    Ok(())
+}
+
+/// Group `bed` of a shaken bed: its uniform-time profiles, `height` [Z] (bin centres), `packing`
+/// [Z], `temperature` [Z], `phase_packing` [16, Z] (per phase bin of the floor, from its lowest
+/// point) and `vertical_velocity` [Z, X] (time-averaged v_z in √(g d), NaN where no grain was seen).
+pub(super) fn bed_group(file: &Group, bed: Option<&BedSummary>) -> hdf5::Result<()> {
+    let Some(bed) = bed else {
+        return Ok(());
+    };
+    let g = file.create_group("bed")?;
+    let z = bed.height.len();
+    for (name, v) in [
+        ("height", &bed.height),
+        ("packing", &bed.packing),
+        ("temperature", &bed.temperature),
+    ] {
+        g.new_dataset_builder()
+            .with_data(&ndarray::Array1::from(v.clone()))
+            .create(name)?;
+    }
+    for (name, v, rows) in [
+        (
+            "phase_packing",
+            &bed.phase_packing,
+            bed.phase_packing.len() / z,
+        ),
+        ("vertical_velocity", &bed.vertical_velocity, z),
+    ] {
+        let a = ndarray::Array2::from_shape_vec((rows, v.len() / rows), v.clone())
+            .map_err(|e| hdf5::Error::from(e.to_string().as_str()))?;
+        g.new_dataset_builder().with_data(&a).create(name)?;
+    }
+    attr_f64(&g, "samples", bed.samples as f64)
 }
 
 /// Parameters of a replica heated by white noise: `kick_interval` Δt, and where the theory applies

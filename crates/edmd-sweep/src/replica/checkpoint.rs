@@ -26,13 +26,14 @@ use serde::{Deserialize, Serialize};
 
 use edmd_core::{Counters, VirialMeter};
 
+use super::bed_meter::BedMeter;
 use super::{Series, Snapshot};
 use crate::files::write_atomic_parts;
 use crate::spec::Spec;
 
 const MAGIC: &[u8; 8] = b"EDMDCKPT";
 /// The version of the runner's part of the layout (the engine's carries its own).
-pub const FORMAT: u32 = 2;
+pub const FORMAT: u32 = 3;
 
 /// What a checkpoint says about itself, readable without the state.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -74,6 +75,8 @@ pub(crate) struct RunnerState {
     pub start: Counters,
     pub wall_s: f64,
     pub resumes: u64,
+    /// A shaken bed's uniform-time samples so far.
+    pub bed: Option<BedMeter>,
 }
 
 /// [`RunnerState`] as it is written: borrowed from the running replica (no copy of its series and
@@ -92,6 +95,7 @@ pub(crate) struct RunnerSaving<'a> {
     pub start: Counters,
     pub wall_s: f64,
     pub resumes: u64,
+    pub bed: Option<&'a BedMeter>,
 }
 
 /// A replica's state as a checkpoint holds it.

@@ -14,6 +14,7 @@ pub use crate::record::Status;
 use crate::spec::{viscoelastic, BoundaryKind, Remedy, Replica, RuleSpec, Spec};
 
 pub mod bare;
+pub mod bed_meter;
 pub mod checkpoint;
 pub mod extend;
 mod given;
@@ -183,6 +184,8 @@ pub struct Outcome {
     pub classification: Option<Classification>,
     /// Particles per cell of the order-parameter grid (NaN without classification).
     pub per_cell: f64,
+    /// A shaken bed's uniform-time samples, summed up (None elsewhere or before they start).
+    pub bed: Option<bed_meter::BedSummary>,
 }
 
 impl Outcome {
@@ -204,6 +207,7 @@ impl Outcome {
             resumes: 0,
             classification: None,
             per_cell: f64::NAN,
+            bed: None,
         }
     }
 

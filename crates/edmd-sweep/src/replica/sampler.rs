@@ -4,6 +4,7 @@
 use edmd_core::theory::haff_temperature_tau;
 use edmd_core::{order_parameters, Counters, Engine, Vector, VirialMeter};
 
+use super::bed_meter::BedMeter;
 use super::{Series, Snapshot};
 use crate::spec::{Replica, RuleSpec, Spec};
 
@@ -66,6 +67,9 @@ pub(super) struct Sampler<'a> {
     meter: Option<VirialMeter>,
     /// The engine's counters at the start of the run (the event counts start there).
     start: Counters,
+    /// A shaken bed's uniform-time samples, and the radii they need.
+    pub(super) bed: Option<BedMeter>,
+    radii: Vec<f64>,
 }
 
 impl<'a> Sampler<'a> {
@@ -106,6 +110,8 @@ impl<'a> Sampler<'a> {
             species_of,
             meter: None,
             start: *sim.counters(),
+            bed: r.shaken().then(|| BedMeter::new(r, profile_bins)),
+            radii: if r.shaken() { sim.radii() } else { Vec::new() },
         }
     }
 
@@ -120,9 +126,40 @@ impl<'a> Sampler<'a> {
         (self.t0, self.meter, self.start)
     }
 
-    /// Goes on from a checkpoint's [`Self::state`].
-    pub(super) fn resume(&mut self, t0: f64, meter: Option<VirialMeter>, start: Counters) {
+    /// Goes on from a checkpoint's [`Self::state`] and bed meter.
+    pub(super) fn resume(
+        &mut self,
+        (t0, meter, start): (f64, Option<VirialMeter>, Counters),
+        bed: Option<BedMeter>,
+    ) {
         (self.t0, self.meter, self.start) = (t0, meter, start);
+        if bed.is_some() {
+            self.bed = bed;
+        }
+    }
+
+    /// Starts a shaken bed's uniform-time samples after `time` (once).
+    pub(super) fn start_bed(&mut self, time: f64) {
+        if let Some(b) = &mut self.bed {
+            b.start(time);
+        }
+    }
+
+    /// When the next uniform-time sample of a shaken bed is due (None elsewhere or before the start).
+    pub(super) fn bed_time(&self) -> Option<f64> {
+        self.bed.as_ref().and_then(BedMeter::next_time)
+    }
+
+    /// Takes the uniform-time sample due now.
+    pub(super) fn record_bed<const D: usize>(&mut self, sim: &dyn Engine<D>) {
+        if let Some(b) = &mut self.bed {
+            b.record(
+                &sim.positions(),
+                &sim.velocities(),
+                &self.masses,
+                &self.radii,
+            );
+        }
     }
 
     /// Samples `sim` into `series`, with a snapshot into `snapshots` when `snapshot`.

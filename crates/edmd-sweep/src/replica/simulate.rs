@@ -205,6 +205,7 @@ fn drive<const D: usize>(
         resumes: run.resumes,
         classification,
         per_cell: theory.per_cell,
+        bed: sampler.bed.as_ref().and_then(|b| b.summary(r)),
     }))
 }
 
@@ -279,7 +280,7 @@ impl<'a> Run<'a> {
         self.window = s.window;
         self.wall_before = s.wall_s;
         self.resumes = s.resumes + 1;
-        sampler.resume(s.t0, s.meter, s.start);
+        sampler.resume((s.t0, s.meter, s.start), s.bed);
     }
 
     /// The replica's state now, encoded (with its snapshots, or only their count: a final state's
@@ -309,6 +310,7 @@ impl<'a> Run<'a> {
             start,
             wall_s,
             resumes: self.resumes,
+            bed: sampler.bed.as_ref(),
         };
         Encoded::new(&runner, wall_s, sim.save_state())
     }
@@ -376,6 +378,9 @@ impl<'a> Run<'a> {
                 self.snapshots.push(snapshot(&*sim));
             }
             self.sampled_at = Some(sim.counters().pair_collisions);
+            if point >= 0.5 * self.points.tau_max() {
+                sampler.start_bed(sim.time());
+            }
             if self.stops_early(&*sim, t0, theory) {
                 break;
             }
@@ -388,7 +393,7 @@ impl<'a> Run<'a> {
     fn advance<const D: usize>(
         &mut self,
         sim: &mut dyn Engine<D>,
-        sampler: &Sampler<'_>,
+        sampler: &mut Sampler<'_>,
         target: u64,
         progress: &(dyn Fn(u64) + Sync),
     ) {
@@ -397,9 +402,15 @@ impl<'a> Run<'a> {
             && sim.counters().pair_collisions < target
             && self.stalled.is_none()
         {
-            // A pair collision is one event, so this many events cannot overshoot the target.
+            // A pair collision is one event, so this many events cannot overshoot the target; a
+            // shaken bed's uniform-time samples come first (the target is then passed by less than
+            // the collisions of one sample interval).
             let left = target - sim.counters().pair_collisions;
-            self.end = sim.run(Stop::Events(left.min(CHUNK_EVENTS)));
+            let bed_time = sampler.bed_time();
+            self.end = sim.run(bed_time.map_or(Stop::Events(left.min(CHUNK_EVENTS)), Stop::Time));
+            if bed_time.is_some() && self.end == RunEnd::Reached {
+                sampler.record_bed(&*sim);
+            }
             let c = *sim.counters();
             progress(c.pair_collisions - self.reported);
             self.reported = c.pair_collisions;
