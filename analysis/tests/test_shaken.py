@@ -8,7 +8,7 @@ import json
 
 import h5py
 from conftest import run_edmd
-from edmd_analysis import io, report, shaken
+from edmd_analysis import io, movie, report, shaken
 
 
 def test_a_shaken_sweep_reads_back_and_draws_its_states(tmp_path):
@@ -48,3 +48,9 @@ def test_a_shaken_sweep_reads_back_and_draws_its_states(tmp_path):
     tasks = report._movie_tasks(index, tmp_path, max_frames=2)
     wanted = [s for s in shaken.MOVIE_STATES if s in states]
     assert [t[1][1].name.split("-")[1] for t in tasks] == (wanted or ["replica"])
+    # A shaken bed's movie shows the height its grains reach and the floor where it is.
+    snaps = io.read_snapshots(out / "replicas" / "r00000.h5")
+    top, floor = movie._gravity_view(snaps, rep.params)
+    assert floor == (rep.params["floor_amplitude"], rep.params["floor_omega"])
+    assert snaps.position[:, :, 1].max() < top <= 100
+    assert movie.movie(out / "replicas" / "r00000.h5", output=tmp_path / "bed.gif")[0].exists()

@@ -109,7 +109,9 @@ def _with_images(snaps: io.Snapshots, k: int, idx, xy, d):
             np.concatenate([d, d[rows]]), margin, len(idx))
 
 
-def _draw(ax, snaps, k, colour, arrows, title):
+def _draw(ax, snaps, k, colour, arrows, title, top=None, floor=None):
+    """Frame k; ``top`` the height shown (the box's by default), ``floor`` a vibrating floor's
+    (amplitude, angular frequency), drawn at its height at the frame's time."""
     ax.clear()
     idx, xy, d, margin, grains = _with_images(snaps, k, *_visible(snaps, k))
     style = dict(units="xy", offsets=xy, offset_transform=ax.transData, linewidth=0.2)
@@ -138,7 +140,13 @@ def _draw(ax, snaps, k, colour, arrows, title):
         ax.quiver(xy[:grains, 0], xy[:grains, 1], vel[:, 0] / scale, vel[:, 1] / scale, angles="xy",
                   scale_units="xy", scale=0.5, width=0.0015, color="k")
     ax.set_xlim(-margin, snaps.box[0] + margin)
-    ax.set_ylim(-margin, snaps.box[1] + margin)
+    ax.set_ylim(-margin, (snaps.box[1] if top is None else top) + margin)
+    if floor is not None:
+        from matplotlib.patches import Rectangle
+
+        a, omega = floor
+        height = a * (1 - np.cos(omega * snaps.time[k]))
+        ax.add_patch(Rectangle((0, -a), float(snaps.box[0]), height + a, color="0.45", zorder=2))
     if margin > 0:
         # The images, outside the box, under a white veil; the box's outline.
         from matplotlib.patches import PathPatch, Rectangle
@@ -168,6 +176,17 @@ def _colour_bar(fig, ax, colour):
     else:
         return
     fig.colorbar(mappable, ax=ax, shrink=0.8, label=label)
+
+
+def _gravity_view(snaps: io.Snapshots, params: dict):
+    """Under gravity: the height the grains reach over the frames plus a tenth (at most the box's),
+    and a vibrating floor's (amplitude, angular frequency) or None; elsewhere (None, None)."""
+    if not params.get("gravity", 0) > 0 or snaps.position.shape[2] != 2:
+        return None, None
+    reach = float((snaps.position[:, :, 1] + np.asarray(snaps.radius, dtype=float)).max())
+    top = min(1.1 * reach, float(snaps.box[1]))
+    a = float(params.get("floor_amplitude", 0.0))
+    return top, ((a, float(params["floor_omega"])) if a > 0 else None)
 
 
 # Frame width in inches; the pixels are this times the dpi.
@@ -218,6 +237,9 @@ def movie(source, replica: Optional[int] = None, output=None, fps: float = 5.0,
     head = f"eps = {p['eps']:g}, N = {p['n']}, phi = {p['phi']:.3g}"
     if snaps.position.shape[2] == 3:
         head += ", slab |z - L/2| < sigma/2"
+    top, floor = _gravity_view(snaps, p)
+    if floor is not None:
+        head = f"S = {p['shake_s']:g}, Gamma = {p['shake_gamma']:g}, N = {p['n']}: {p.get('shaken_state', '')}"
 
     outputs = [Path(output)] if output else [default_dir / f"r{k:05d}.gif"]
     if not output and (has_ffmpeg() if mp4 is None else mp4):
@@ -237,7 +259,7 @@ def movie(source, replica: Optional[int] = None, output=None, fps: float = 5.0,
     def update(j):
         f = frames[j]
         _draw(ax, snaps, f, colour, arrows,
-              f"{head}\ntau = {snaps.tau[f]:.1f}   T/T0 = {ratio[f]:.3g}")
+              f"{head}\ntau = {snaps.tau[f]:.1f}   T/T0 = {ratio[f]:.3g}", top, floor)
         return []
 
     # The layout of the first frame holds for all (the same axes, colour bar and two-line title):
