@@ -27,8 +27,16 @@ ROUGH = {"name": "rough", "seed": 3,
          "samples": {"every": 4, "per_decade": 5}, "snapshots": {"per_decade": 3}, "classify": {}}
 
 
-@pytest.mark.parametrize("base,short,long", [(SMALL_QUICK, 200, 400), (SHEARED, 60, 150), (ROUGH, 40, 130)],
-                         ids=["quick", "sheared", "rough"])
+SHAKEN = {"name": "shaken", "seed": 4,
+          "grid": {"boundary": "channel", "eps": 0.9, "n": 100, "box": 100, "aspect": [0.25, 1],
+                   "gravity": 1, "wall_eps": 0.9, "remedy": {"kind": "tc", "tc": 0.001},
+                   "shake_s": [2, 20], "shake_gamma": 10},
+          "samples": {"every": 10, "per_decade": 0}, "snapshots": {"at": [30, 60]}}
+
+
+@pytest.mark.parametrize("base,short,long", [(SMALL_QUICK, 200, 400), (SHEARED, 60, 150), (ROUGH, 40, 130),
+                                             (SHAKEN, 30, 60)],
+                         ids=["quick", "sheared", "rough", "shaken"])
 def test_extend_equals_a_direct_run(tmp_path, capsys, base, short, long):
     def write(tau_max, name):
         s = dict(base, stop=dict(base.get("stop", {}), tau_max=tau_max))
@@ -51,6 +59,18 @@ def test_extend_equals_a_direct_run(tmp_path, capsys, base, short, long):
     went_on = [int(i) for i, k in zip(extended["index"], extended["resumes"]) if k]
     assert went_on and set(extended["resumes"]) <= {0, 1}
     assert all(f"r{i:05d} (1×)" in _continued(extended) for i in went_on)
+
+
+def test_a_shaken_bed_extended_less_than_twice_runs_again_and_equals_a_direct_run(tmp_path, capsys):
+    """Its longer run records the uniform-time samples from tau 20 on, before the final state at 30:
+    it cannot go on from there, so it runs from the start."""
+    for name, tau in (("short", 30), ("long", 40)):
+        (tmp_path / f"{name}.json").write_text(json.dumps(dict(SHAKEN, stop={"tau_max": tau})))
+    run_edmd("run", tmp_path / "long.json", "-o", tmp_path / "direct", "-q")
+    run_edmd("run", tmp_path / "short.json", "-o", tmp_path / "extended", "-q")
+    r = run_edmd("extend", tmp_path / "extended", "--tau-max", 40)
+    assert "a shaken bed whose longer run samples from before its final state" in r.stderr, r.stderr
+    assert compare_outputs.main(str(tmp_path / "direct"), str(tmp_path / "extended")) == 0, capsys.readouterr().out
 
 
 def test_extend_refuses_a_shorter_tau_max_and_an_unfinished_sweep(tmp_path):

@@ -1,8 +1,10 @@
 //! A shaken bed sampled at uniform times (PHYSICS.md §8.4). The τ schedule samples per collision,
 //! which over-weighs the moments of impact; this meter takes [`SAMPLES_PER_PERIOD`] samples per
-//! floor period instead, from the first sample point at or after half of τ_max, sample k at time
-//! k·T/16 so that its floor phase is bin k mod 16. It keeps running sums only, so a checkpoint holds
-//! it whole, and [`BedMeter::summary`] turns them into the bed's profiles, spectrum and flow.
+//! floor period instead, sample k at time k·T/16 so that its floor phase is bin k mod 16. The run
+//! stops at every such time from its start, so that its course does not depend on τ_max (an
+//! `edmd extend` then equals a longer run), and records from the first sample point at or after
+//! half of τ_max. It keeps running sums only, so a checkpoint holds it whole, and
+//! [`BedMeter::summary`] turns them into the bed's profiles, spectrum and flow.
 //!
 //! Fourier sums are kept apart for two interleaved halves of the samples (alternate blocks of
 //! [`BLOCK`]): an amplitude is read from their product, 4 Re(a b*) = |a + b|² − |a − b|², which a
@@ -39,8 +41,10 @@ pub struct BedMeter {
     x_width: f64,
     z_bins: usize,
     x_bins: usize,
-    /// The index of the next sample (at time k·T/16); None until the meter starts.
-    next: Option<u64>,
+    /// The index of the next sample time, k·T/16.
+    next: u64,
+    /// Whether the sample times are recorded (from the window's start on) or only stopped at.
+    recording: bool,
     samples: u64,
     /// Per phase bin and height bin: grains, Σ m, Σ m v (D components), Σ m |v|².
     moments: Vec<f64>,
@@ -59,13 +63,16 @@ pub struct BedMeter {
 }
 
 impl BedMeter {
-    /// A meter for shaken replica `r`, its height in `z_bins` bins (those of the density profile).
-    pub fn new(r: &Replica, z_bins: usize) -> Self {
+    /// A meter for shaken replica `r` at time `time`, its height in `z_bins` bins (those of the
+    /// density profile); it stops at sample times from the first after `time` on, and records
+    /// once started.
+    pub fn new(r: &Replica, z_bins: usize, time: f64) -> Self {
         let sides = r.sides();
         let (amplitude, omega) = r.floor_motion();
         let diameter = r.largest_diameter();
         let x_bins = ((sides[0] / (COLUMN_WIDTH * diameter)) as usize).max(1);
         let z_bins = z_bins.max(1);
+        let interval = std::f64::consts::TAU / omega / SAMPLES_PER_PERIOD as f64;
         BedMeter {
             amplitude,
             omega,
@@ -75,7 +82,8 @@ impl BedMeter {
             x_width: sides[0] / x_bins as f64,
             z_bins,
             x_bins,
-            next: None,
+            next: (time / interval).floor() as u64 + 1,
+            recording: false,
             samples: 0,
             moments: vec![0.0; SAMPLES_PER_PERIOD as usize * z_bins * (3 + r.dim)],
             cells: vec![0.0; z_bins * x_bins],
@@ -93,16 +101,37 @@ impl BedMeter {
         std::f64::consts::TAU / self.omega / SAMPLES_PER_PERIOD as f64
     }
 
-    /// Starts sampling at the first sample time after `time` (no-op once started).
-    pub fn start(&mut self, time: f64) {
-        if self.next.is_none() {
-            self.next = Some((time / self.interval()).floor() as u64 + 1);
-        }
+    /// Records from the next sample time on (no-op once started).
+    pub fn start(&mut self) {
+        self.recording = true;
     }
 
-    /// The time of the next sample (None before the start).
-    pub fn next_time(&self) -> Option<f64> {
-        self.next.map(|k| k as f64 * self.interval())
+    /// Whether the sample times are recorded.
+    pub fn recording(&self) -> bool {
+        self.recording
+    }
+
+    /// Forgets every sample and stops recording, keeping the sample times (for a run that goes on
+    /// under a longer τ_max, whose window starts later).
+    pub fn restart(&mut self) {
+        self.recording = false;
+        self.samples = 0;
+        self.moments.fill(0.0);
+        self.cells.fill(0.0);
+        self.flux.iter_mut().for_each(|f| f.fill(0.0));
+        (self.com, self.com_f, self.com_half) = (0.0, [[0.0; 2]; 2], [[0.0; 2]; 2]);
+        self.columns_half.fill([[0.0; 2]; 2]);
+        (self.touched, self.touching) = (0, 0.0);
+    }
+
+    /// The next sample time.
+    pub fn next_time(&self) -> f64 {
+        self.next as f64 * self.interval()
+    }
+
+    /// Passes the sample time due now without recording it (before the window).
+    pub fn skip(&mut self) {
+        self.next += 1;
     }
 
     /// Samples taken.
@@ -118,8 +147,9 @@ impl BedMeter {
         m: &[f64],
         radius: &[f64],
     ) {
-        let k = self.next.expect("a sample is recorded after the start");
-        self.next = Some(k + 1);
+        debug_assert!(self.recording, "samples are recorded after the start");
+        let k = self.next;
+        self.next += 1;
         self.samples += 1;
         let phase = (k % SAMPLES_PER_PERIOD) as usize;
         let h = ((k / BLOCK) % 2) as usize;

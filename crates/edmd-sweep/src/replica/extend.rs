@@ -6,7 +6,9 @@
 //! longer spec, heading for the first point of the longer schedule at or after the old τ_max, with
 //! its snapshots read back from the replica's file; the run then goes on from it as from any
 //! checkpoint. A replica that ended earlier (stopped, collapsed, stalled, failed) or kept no state
-//! runs again from the start: it ends as it did, now with the longer spec in its file.
+//! runs again from the start: it ends as it did, now with the longer spec in its file. So does a
+//! shaken bed extended to less than twice its τ_max: its longer run records its uniform-time
+//! samples from its own half-way point, which lies before the final state.
 
 use std::sync::atomic::AtomicBool;
 
@@ -96,6 +98,18 @@ fn convert(
         .resume_at(runner.point)
         .ok_or("no point of the longer schedule after the final state")?;
     runner.next_snapshot = points.next_snapshot;
+    if let Some(bed) = &mut runner.bed {
+        // The longer run records its uniform-time samples from its own half-way point on.
+        let window = Points::new(new).resume_at(0.5 * new.stop.tau_max);
+        if window.is_some_and(|w| w < runner.point) {
+            return Err(
+                "a shaken bed whose longer run samples from before its final state (extend to \
+                 twice tau_max or more to go on from it)"
+                    .into(),
+            );
+        }
+        bed.restart();
+    }
     let state = Encoded::new(&saved.runner, saved.runner.wall_s, saved.engine);
     ckpts.save(r.index, header.tau, header.collisions, "extend", &state);
     match ckpts.notices.lock().expect("lock").pop() {

@@ -110,7 +110,9 @@ impl<'a> Sampler<'a> {
             species_of,
             meter: None,
             start: *sim.counters(),
-            bed: r.shaken().then(|| BedMeter::new(r, profile_bins)),
+            bed: r
+                .shaken()
+                .then(|| BedMeter::new(r, profile_bins, sim.time())),
             radii: if r.shaken() { sim.radii() } else { Vec::new() },
         }
     }
@@ -138,27 +140,31 @@ impl<'a> Sampler<'a> {
         }
     }
 
-    /// Starts a shaken bed's uniform-time samples after `time` (once).
-    pub(super) fn start_bed(&mut self, time: f64) {
+    /// Records a shaken bed's uniform-time samples from the next one on.
+    pub(super) fn start_bed(&mut self) {
         if let Some(b) = &mut self.bed {
-            b.start(time);
+            b.start();
         }
     }
 
-    /// When the next uniform-time sample of a shaken bed is due (None elsewhere or before the start).
+    /// When the next uniform-time sample of a shaken bed is due (None elsewhere).
     pub(super) fn bed_time(&self) -> Option<f64> {
-        self.bed.as_ref().and_then(BedMeter::next_time)
+        self.bed.as_ref().map(BedMeter::next_time)
     }
 
-    /// Takes the uniform-time sample due now.
+    /// Takes the uniform-time sample due now (passes it before the window).
     pub(super) fn record_bed<const D: usize>(&mut self, sim: &dyn Engine<D>) {
-        if let Some(b) = &mut self.bed {
-            b.record(
-                &sim.positions(),
-                &sim.velocities(),
-                &self.masses,
-                &self.radii,
-            );
+        match &mut self.bed {
+            Some(b) if b.recording() => {
+                b.record(
+                    &sim.positions(),
+                    &sim.velocities(),
+                    &self.masses,
+                    &self.radii,
+                );
+            }
+            Some(b) => b.skip(),
+            None => {}
         }
     }
 

@@ -379,7 +379,7 @@ impl<'a> Run<'a> {
             }
             self.sampled_at = Some(sim.counters().pair_collisions);
             if point >= 0.5 * self.points.tau_max() {
-                sampler.start_bed(sim.time());
+                sampler.start_bed();
             }
             if self.stops_early(&*sim, t0, theory) {
                 break;
@@ -403,8 +403,8 @@ impl<'a> Run<'a> {
             && self.stalled.is_none()
         {
             // A pair collision is one event, so this many events cannot overshoot the target; a
-            // shaken bed's uniform-time samples come first (the target is then passed by less than
-            // the collisions of one sample interval).
+            // shaken bed stops at its sample times instead, from its start (the target is then
+            // passed by less than the collisions of one sample interval).
             let left = target - sim.counters().pair_collisions;
             let bed_time = sampler.bed_time();
             self.end = sim.run(bed_time.map_or(Stop::Events(left.min(CHUNK_EVENTS)), Stop::Time));

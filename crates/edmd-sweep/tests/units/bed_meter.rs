@@ -21,11 +21,11 @@ fn replica() -> Replica {
 /// Feeds `samples` samples from the start, the grains at sample k given by `bed(k)`.
 fn run(samples: u64, bed: impl Fn(u64) -> (Vec<Vector<2>>, Vec<Vector<2>>)) -> BedSummary {
     let r = replica();
-    let mut meter = BedMeter::new(&r, 100);
-    meter.start(0.0);
+    let mut meter = BedMeter::new(&r, 100, 0.0);
+    meter.start();
     for k in 1..=samples {
         let (x, v) = bed(k);
-        let t = meter.next_time().unwrap();
+        let t = meter.next_time();
         let period = std::f64::consts::TAU / r.floor_motion().1;
         assert!((t - k as f64 * period / SAMPLES_PER_PERIOD as f64).abs() < 1e-12);
         meter.record(&x, &v, &vec![1.0; x.len()], &vec![0.5; x.len()]);
