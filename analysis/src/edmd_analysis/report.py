@@ -347,10 +347,12 @@ def _white_noise_figure(dest: Path, paths):
 
 def _shaken_figure(dest: Path, index: io.Index):
     saved: list = []
-    fig, ax = plt.subplots(figsize=(6, 4))
-    if not shaken.shaken_states(ax, index):
-        plt.close(fig)
+    betas = sorted({p[4] for p in shaken.shaken_points(index)})
+    if not betas:
         return saved
+    fig, axes = plt.subplots(1, len(betas), figsize=(6 * len(betas), 4), squeeze=False)
+    for ax, beta in zip(axes[0], betas):
+        shaken.shaken_states(ax, index, beta if len(betas) > 1 else None)
     _save(fig, dest, "shaken-states", saved)
     reps = shaken.read(index)
     fig, axes = plt.subplots(1, 2, figsize=(10, 4.5))

@@ -16,13 +16,13 @@ SHAKEN_COLOURS = {"solid": "#444444", "bouncing_bed": "#1f77b4", "undulations": 
 SPARSE = 0.01
 
 # The states a report shows as movies, where a replica in them has two snapshots or more.
-MOVIE_STATES = ("leidenfrost", "convection")
+MOVIE_STATES = ("undulations", "leidenfrost", "convection")
 
 
 def shaken_points(index) -> list:
-    """The shaken replicas of an index that finished, as (S, F, Gamma, state): F = N d / W the
-    layers of grains of diameter 1 over the floor's width W (the box side times the aspect's first
-    side; the first sides' product in 3D, F = N d^2 / area)."""
+    """The shaken replicas of an index that finished, as (S, F, Gamma, state, beta): F = N d / W
+    the layers of grains of diameter 1 over the floor's width W (the box side times the aspect's
+    first side; the first sides' product in 3D, F = N d^2 / area); beta = -1 for smooth grains."""
     out = []
     for i in range(len(index)):
         if not index["shake_s"][i] > 0 or index["status"][i] != "done":
@@ -30,30 +30,35 @@ def shaken_points(index) -> list:
         dim = int(index["dim"][i])
         aspect = [float(a) for a in str(index["aspect"][i]).split("x")] if index["aspect"][i] else [1.0] * dim
         floor = float(np.prod([index["box_side"][i] * a for a in aspect[:dim - 1]]))
-        out.append((float(index["shake_s"][i]), index["n"][i] / floor,
-                    float(index["shake_gamma"][i]), str(index["shaken_state"][i])))
+        out.append((float(index["shake_s"][i]), index["n"][i] / floor, float(index["shake_gamma"][i]),
+                    str(index["shaken_state"][i]), float(index["beta"][i])))
     return out
 
 
-def shaken_states(ax, index) -> bool:
-    """The (S, F) plane of a shaken-bed sweep, each replica a dot coloured by its state, one marker
-    per Gamma (False where the index holds no finished shaken replica)."""
-    points = shaken_points(index)
+def shaken_states(ax, index, beta=None) -> bool:
+    """The states of a shaken-bed sweep (of the grains with tangential restitution ``beta`` if
+    given), each replica a dot coloured by its state: in the (S, F) plane with one marker per Gamma,
+    or in the (S, Gamma) plane where F does not vary (False where there is no finished shaken
+    replica)."""
+    points = [p for p in shaken_points(index) if beta is None or p[4] == beta]
     if not points:
         return False
-    markers = dict(zip(sorted({p[2] for p in points}), "osD^v<>"))
+    by_gamma = len({p[1] for p in points}) == 1 and len({p[2] for p in points}) > 1
+    y, other = (2, 1) if by_gamma else (1, 2)
+    markers = dict(zip(sorted({p[other] for p in points}), "osD^v<>"))
+    name = "F" if by_gamma else "Gamma"
     for state, colour in SHAKEN_COLOURS.items():
-        for gamma, marker in markers.items():
-            mine = [p for p in points if p[3] == state and p[2] == gamma]
+        for value, marker in markers.items():
+            mine = [p for p in points if p[3] == state and p[other] == value]
             if mine:
-                label = state if len(markers) == 1 else f"{state}, Gamma={gamma:g}"
-                ax.scatter([p[0] for p in mine], [p[1] for p in mine], c=colour, marker=marker,
+                label = state if len(markers) == 1 else f"{state}, {name}={value:g}"
+                ax.scatter([p[0] for p in mine], [p[y] for p in mine], c=colour, marker=marker,
                            s=40, label=label)
     ax.set_xscale("log")
     ax.xaxis.set_minor_formatter(NullFormatter())
     ax.set_xlabel("shaking strength S = A^2 w^2 / (g d)")
-    ax.set_ylabel("layers F = N d / W")
-    ax.set_title("states of the shaken bed")
+    ax.set_ylabel("shaking acceleration Gamma = A w^2 / g" if by_gamma else "layers F = N d / W")
+    ax.set_title("states of the shaken bed" + ("" if beta is None else f", beta = {beta:g}"))
     ax.legend(fontsize=8)
     return True
 

@@ -13,6 +13,9 @@ pub enum Stop {
     Time(f64),
     /// After this many more events of any kind.
     Events(u64),
+    /// After this many more events, or at this physical time, whichever comes first (a runner that
+    /// samples at set times between collision targets).
+    EventsOrTime(u64, f64),
 }
 
 /// Why a run ended.
@@ -30,6 +33,23 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
     /// Simulated local time at physical time `t`.
     pub(super) fn local_time_of(&self, t: f64) -> f64 {
         t * self.inv_scale - self.epoch
+    }
+
+    /// Whether a run to physical time `t` ends before the next event: then the clock moves on to
+    /// `t` and the end is `Reached`, or `Exhausted` when no event is left.
+    fn stop_at_time(&mut self, t: f64) -> Option<RunEnd> {
+        let local = self.local_time_of(t);
+        match self.calendar.peek_time(&mut self.meta) {
+            Some(next) if next <= local => None,
+            next => {
+                self.now = local.max(self.now);
+                Some(if next.is_some() {
+                    RunEnd::Reached
+                } else {
+                    RunEnd::Exhausted
+                })
+            }
+        }
     }
 
     /// Runs until `stop`.
@@ -50,7 +70,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         }
         let target = match stop {
             Stop::Tau(tau) => (tau * self.len() as f64).ceil().max(0.0) as u64,
-            Stop::Events(n) => self.counters.events + n,
+            Stop::Events(n) | Stop::EventsOrTime(n, _) => self.counters.events + n,
             Stop::Time(_) => 0,
         };
         loop {
@@ -66,17 +86,16 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
                     }
                 }
                 Stop::Time(t) => {
-                    let local = self.local_time_of(t);
-                    match self.calendar.peek_time(&mut self.meta) {
-                        Some(next) if next <= local => {}
-                        Some(_) => {
-                            self.now = local.max(self.now);
-                            return RunEnd::Reached;
-                        }
-                        None => {
-                            self.now = local.max(self.now);
-                            return RunEnd::Exhausted;
-                        }
+                    if let Some(end) = self.stop_at_time(t) {
+                        return end;
+                    }
+                }
+                Stop::EventsOrTime(_, t) => {
+                    if self.counters.events >= target {
+                        return RunEnd::Reached;
+                    }
+                    if let Some(end) = self.stop_at_time(t) {
+                        return end;
                     }
                 }
             }
@@ -114,7 +133,7 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
         let n = self.len() as f64;
         let mut next = schedule.first_at_or_after(self.tau());
         let event_target = match stop {
-            Stop::Events(k) => self.counters.events + k,
+            Stop::Events(k) | Stop::EventsOrTime(k, _) => self.counters.events + k,
             _ => u64::MAX,
         };
         loop {
@@ -128,13 +147,10 @@ impl<const D: usize, B: Boundary, R: CollisionRule, C: Calendar> Simulation<D, B
             let done = match stop {
                 Stop::Tau(t) => self.counters.pair_collisions as f64 >= (t * n).ceil(),
                 Stop::Events(_) => self.counters.events >= event_target,
-                Stop::Time(t) => match self.calendar.peek_time(&mut self.meta) {
-                    Some(next_t) if next_t <= self.local_time_of(t) => false,
-                    _ => {
-                        self.now = self.local_time_of(t).max(self.now);
-                        true
-                    }
-                },
+                Stop::Time(t) => self.stop_at_time(t).is_some(),
+                Stop::EventsOrTime(_, t) => {
+                    self.counters.events >= event_target || self.stop_at_time(t).is_some()
+                }
             };
             if done {
                 return RunEnd::Reached;

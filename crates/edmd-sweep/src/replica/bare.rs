@@ -10,7 +10,7 @@ use edmd_core::{
     Periodic, Remedy, Stop, Walls,
 };
 
-use super::{rule, simulate::init_params};
+use super::{rule, setup::init_params};
 use crate::spec::{BoundaryKind, Replica, Spec};
 
 /// Builds replica `r` as the runner does and runs it to `collisions` pair collisions; returns the

@@ -22,6 +22,7 @@ pub mod noise;
 mod points;
 mod sampler;
 mod scene_theory;
+mod setup;
 mod shaken;
 mod shear;
 mod simulate;
@@ -318,7 +319,7 @@ fn by_boundary<const D: usize>(
 /// grid of its box), so that `validate-spec` and `run` refuse what would fail at run time.
 pub(crate) fn preflight(spec: &Spec, r: &Replica) -> Result<(), EdmdError> {
     fn scene<const D: usize>(spec: &Spec, r: &Replica) -> Result<(), EdmdError> {
-        let p = simulate::init_params::<D>(spec, r)?.0;
+        let p = setup::init_params::<D>(spec, r)?.0;
         match (r.boundary, r.gravity > 0.0) {
             (BoundaryKind::Periodic, _) => p.preflight::<Periodic>(),
             (BoundaryKind::LeesEdwards, _) => p.preflight::<LeesEdwards>(),

@@ -1,25 +1,19 @@
 //! The run of one replica in its monomorphised types: melt, cool to the stop, sample observables
 //! and order parameters on the schedule, keep the snapshots, watch for collapse and stalls.
 
-use edmd_core::{
-    Boundary, CollisionRule, EdmdError, Engine, InitParams, RunEnd, SimParams, Simulation, Stop,
-    Vector, Velocities,
-};
+use edmd_core::{Boundary, CollisionRule, EdmdError, Engine, InitParams, RunEnd, Simulation, Stop};
 
 use super::checkpoint::{Checkpoints, Encoded, RunnerSaving, RunnerState, Timer};
 use super::points::{same_point, Points};
 use super::sampler::{snapshot, Sampler};
+use super::setup::init_params;
 use super::verdict::classification;
 use super::{theory, Outcome, Series, Snapshot, Status};
 use crate::classify::{settled, Class, Theory};
-use crate::spec::{Replica, Spec, VelocityKind};
+use crate::spec::{Replica, Spec};
 
 /// Events between progress reports and checks for ceased collisions.
 const CHUNK_EVENTS: u64 = 500_000;
-/// On a vibrating floor that is not elastic, contacts slower than this times √(g d) relative to it
-/// are elastic (PHYSICS.md §8.3): hops of at most 1.3·10⁻³ d on a still floor.
-pub(crate) const SHAKEN_WALL_THRESHOLD: f64 = 0.05;
-
 /// A replica whose last `STALL_WINDOW_PER_PARTICLE`·N events (at least) brought fewer than one pair
 /// collision per `STALL_EVENTS_PER_COLLISION` events has stopped colliding: an inelastic gas can order
 /// into lanes that stream past each other and only cross cells. Without this guard such a replica
@@ -75,72 +69,6 @@ pub(super) fn simulate<const D: usize, B: Boundary, R: CollisionRule>(
         None => (p.build::<B, R>(rule)?, None),
     };
     drive(spec, r, &p, &species_of, &mut sim, progress, ckpt, resume)
-}
-
-/// The set-up of replica `r`: box, seed, velocities, species (and the species of each slot), walls,
-/// gravity and floor, and the configuration it starts from, if the spec gives one.
-pub(super) fn init_params<const D: usize>(
-    spec: &Spec,
-    r: &Replica,
-) -> Result<(InitParams<D>, Vec<usize>), EdmdError> {
-    let sides = r.sides();
-    let mut p = InitParams::<D>::in_box(r.n, Vector::<D>::from_fn(|a, _| sides[a]));
-    p.seed = r.seed;
-    p.velocities = match spec.init.velocities {
-        VelocityKind::Maxwell => Velocities::Maxwell,
-        VelocityKind::Uniform => Velocities::Uniform,
-    };
-    p.melt_tau = spec.init.melt_tau;
-    // A mixture: species k takes the next N_k slots (diameter σ_k, mass m_k); PHYSICS.md §2.4.
-    let species_of: Vec<usize> = r
-        .species_counts()
-        .iter()
-        .enumerate()
-        .flat_map(|(k, &c)| std::iter::repeat_n(k, c))
-        .collect();
-    if let Some(m) = &r.species {
-        p.radii = Some(species_of.iter().map(|&k| 0.5 * m[k].diameter).collect());
-        p.masses = Some(species_of.iter().map(|&k| m[k].mass_in(D)).collect());
-    }
-    // Walls, gravity and a thermal floor of the scene (PHYSICS.md §1.4), or its shear (§7).
-    if r.gravity > 0.0 || r.wall_eps != 1.0 || r.floor_temperature > 0.0 || r.sheared() {
-        p.sim = Some(SimParams {
-            gravity: r.gravity,
-            wall_epsilon: r.wall_eps,
-            floor_temperature: r.floor_temperature,
-            shear_rate: if r.sheared() { r.shear_rate } else { 0.0 },
-            ..p.default_sim_params()
-        });
-    }
-    // The white-noise thermostat (PHYSICS.md §8.1): kicks of zero total momentum, 20 per cooling
-    // time of the steady state.
-    if r.white_noise > 0.0 {
-        p.sim = Some(SimParams {
-            white_noise: r.white_noise,
-            kick_interval: super::noise::kick_interval(r),
-            kick_conserves_momentum: true,
-            ..p.sim.unwrap_or_else(|| p.default_sim_params())
-        });
-    }
-    // A vibrating floor (PHYSICS.md §8.3): contacts slower than 0.05 √(g d) relative to it are
-    // elastic where the floor is not, so that grains that would rest on it keep hopping.
-    if r.shaken() {
-        let (amplitude, omega) = r.floor_motion();
-        p.sim = Some(SimParams {
-            floor_amplitude: amplitude,
-            floor_omega: omega,
-            wall_threshold: if r.wall_eps < 1.0 {
-                SHAKEN_WALL_THRESHOLD * (r.gravity * r.largest_diameter()).sqrt()
-            } else {
-                0.0
-            },
-            ..p.sim.unwrap_or_else(|| p.default_sim_params())
-        });
-    }
-    if let Some(from) = &spec.init.from {
-        super::given::start_from::<D>(from, r, &mut p)?;
-    }
-    Ok((p, species_of))
 }
 
 /// Melts, cools to the stop, samples observables and order parameters on the schedule, keeps the
@@ -403,12 +331,18 @@ impl<'a> Run<'a> {
             && self.stalled.is_none()
         {
             // A pair collision is one event, so this many events cannot overshoot the target; a
-            // shaken bed stops at its sample times instead, from its start (the target is then
-            // passed by less than the collisions of one sample interval).
+            // shaken bed also stops at its sample times (`replica::bed_meter`).
             let left = target - sim.counters().pair_collisions;
+            let events = left.min(CHUNK_EVENTS);
+            let before = sim.counters().events;
             let bed_time = sampler.bed_time();
-            self.end = sim.run(bed_time.map_or(Stop::Events(left.min(CHUNK_EVENTS)), Stop::Time));
-            if bed_time.is_some() && self.end == RunEnd::Reached {
+            self.end =
+                sim.run(bed_time.map_or(Stop::Events(events), |t| Stop::EventsOrTime(events, t)));
+            // Reached before its events ran out: the run stopped at the sample time.
+            if bed_time.is_some()
+                && self.end == RunEnd::Reached
+                && sim.counters().events - before < events
+            {
                 sampler.record_bed(&*sim);
             }
             let c = *sim.counters();
