@@ -333,7 +333,10 @@ fn stopping_at_sample_times_leaves_a_shaken_bed_unchanged() {
         // Chunks of 100 events at most (a pair collision is one event: no overshoot of the end).
         let chunk = (end - sampled.counters().pair_collisions).min(100);
         let before = sampled.counters().events;
-        assert_eq!(sampled.run(Stop::EventsOrTime(chunk, k * interval)), RunEnd::Reached);
+        assert_eq!(
+            sampled.run(Stop::EventsOrTime(chunk, k * interval)),
+            RunEnd::Reached
+        );
         let ran = sampled.counters().events - before;
         if ran < chunk {
             // Stopped at the sample time: the clock is there, the state readable.
@@ -346,8 +349,14 @@ fn stopping_at_sample_times_leaves_a_shaken_bed_unchanged() {
             at_events += 1;
         }
     }
-    assert!(at_times > 50 && at_events > 50, "{at_times} time stops, {at_events} event stops");
-    assert_eq!(straight.counters().pair_collisions, sampled.counters().pair_collisions);
+    assert!(
+        at_times > 50 && at_events > 50,
+        "{at_times} time stops, {at_events} event stops"
+    );
+    assert_eq!(
+        straight.counters().pair_collisions,
+        sampled.counters().pair_collisions
+    );
     assert_eq!(state_bits(&straight), state_bits(&sampled));
 }
 
