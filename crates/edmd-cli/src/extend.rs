@@ -94,7 +94,7 @@ pub fn command(a: ExtendArgs) -> anyhow::Result<ExitCode> {
     let report = run_sweep(&new, &dir, &opts, &Bar::new(a.quiet))?;
     say_ran(&new, &report, None, &a.out);
     if report.interrupted > 0 {
-        return Err(interrupt::Interrupted(report.interrupted).into());
+        return Err(interrupt::Interrupted::in_dir(report.interrupted, &dir).into());
     }
     if let Some(records) = &report.records {
         print!("{}", render(&phase_table(&new, records), a.format.into()));

@@ -25,16 +25,34 @@ pub fn on_signals() -> anyhow::Result<Arc<AtomicBool>> {
     Ok(stop)
 }
 
-/// A run that a signal stopped, `0` of its replicas left with a checkpoint or not started.
+/// A run that a signal stopped: its replicas left unfinished (with a checkpoint or not started),
+/// and the checkpoints its output directory holds to go on from (none where the signal came
+/// between replicas or between refinement rounds).
 #[derive(Debug)]
-pub struct Interrupted(pub usize);
+pub struct Interrupted {
+    pub unfinished: usize,
+    pub saved: usize,
+}
+
+impl Interrupted {
+    /// `unfinished` replicas of the run into `dir`, counting the checkpoints there.
+    pub fn in_dir(unfinished: usize, dir: &edmd_sweep::output::OutDir) -> Self {
+        let saved = std::fs::read_dir(dir.states_dir()).map_or(0, |entries| {
+            entries
+                .filter_map(Result::ok)
+                .filter(|e| e.path().extension().is_some_and(|x| x == "ckpt"))
+                .count()
+        });
+        Interrupted { unfinished, saved }
+    }
+}
 
 impl std::fmt::Display for Interrupted {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(
             f,
-            "interrupted: {} replica(s) unfinished, those in flight saved as checkpoints; run the same command again to go on",
-            self.0
+            "interrupted: {} replica(s) unfinished, {} checkpoint(s) to go on from (those in flight were saved); run the same command again to go on",
+            self.unfinished, self.saved
         )
     }
 }

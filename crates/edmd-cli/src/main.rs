@@ -279,7 +279,7 @@ fn run_command(
     let report = run_sweep(&spec_value, &dir, &opts, &Bar::new(quiet))?;
     say_ran(&spec_value, &report, shard, &root);
     if report.interrupted > 0 {
-        return Err(interrupt::Interrupted(report.interrupted).into());
+        return Err(interrupt::Interrupted::in_dir(report.interrupted, &dir).into());
     }
     match &report.records {
         Some(records) => print!(

@@ -116,7 +116,9 @@ pub fn command(a: RefineArgs) -> anyhow::Result<ExitCode> {
     let refined =
         refine_rounds::refine(&dir, spec, &axes, limits, &opts, &Bar::new(a.quiet), &log)?;
     match refined.end {
-        End::Interrupted(k) => return Err(crate::interrupt::Interrupted(k).into()),
+        End::Interrupted(k) => {
+            return Err(crate::interrupt::Interrupted::in_dir(k, &dir).into())
+        }
         End::ShardDone => eprintln!(
             "refine: this shard's replicas are finished; `edmd refine {} --plan` plans the next round once every shard has run",
             a.out.display()
